@@ -1,0 +1,266 @@
+#include "geometry/patch_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <GeomConvert.hxx>
+#include <GeomConvert_ApproxSurface.hxx>
+#include <GeomConvert_BSplineSurfaceToBezierSurface.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
+#include <Precision.hxx>
+#include <Standard_Failure.hxx>
+#include <TColGeom_Array2OfBezierSurface.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColStd_Array2OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+
+#include "isocam/errors.h"
+
+namespace isocam {
+namespace {
+
+std::string label(int face) { return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")"; }
+
+// The face's surface as a non-periodic B-spline covering [u1,u2]x[v1,v2].
+Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1,
+                                       double u2, double v1, double v2) {
+  while (auto trimmed = Handle(Geom_RectangularTrimmedSurface)::DownCast(surf)) {
+    surf = trimmed->BasisSurface();
+  }
+  if (auto bs = Handle(Geom_BSplineSurface)::DownCast(surf)) {
+    auto copy = Handle(Geom_BSplineSurface)::DownCast(bs->Copy());
+    if (copy->IsUPeriodic()) copy->SetUNotPeriodic();
+    if (copy->IsVPeriodic()) copy->SetVNotPeriodic();
+    return copy;
+  }
+  if (auto bz = Handle(Geom_BezierSurface)::DownCast(surf)) {
+    return GeomConvert::SurfaceToBSplineSurface(bz);
+  }
+  // Analytic surfaces: exact rational conversion of the bounded piece.
+  Handle(Geom_RectangularTrimmedSurface) piece =
+      new Geom_RectangularTrimmedSurface(surf, u1, u2, v1, v2);
+  try {
+    return GeomConvert::SurfaceToBSplineSurface(piece);
+  } catch (const Standard_Failure&) {
+    // Not convertible exactly (offset surface, ...): approximate closely.
+    GeomConvert_ApproxSurface approx(piece, 1e-6, GeomAbs_C2, GeomAbs_C2, 9, 9,
+                                     200, 1);
+    if (!approx.HasResult()) throw;
+    return approx.Surface();
+  }
+}
+
+}  // namespace
+
+H4 casteljau(const H4* cps, int degree, double t) {
+  std::array<H4, 32> b;
+  const int n = degree + 1;
+  if (n > 32) {
+    std::vector<H4> v(cps, cps + n);
+    for (int k = 1; k < n; ++k)
+      for (int i = 0; i + k < n; ++i) v[i] = v[i] * (1 - t) + v[i + 1] * t;
+    return v[0];
+  }
+  std::copy(cps, cps + n, b.begin());
+  for (int k = 1; k < n; ++k)
+    for (int i = 0; i + k < n; ++i) b[i] = b[i] * (1 - t) + b[i + 1] * t;
+  return b[0];
+}
+
+namespace {
+int find_span(const std::vector<double>& br, double t) {
+  const int n = static_cast<int>(br.size()) - 1;
+  auto it = std::upper_bound(br.begin(), br.end(), t);
+  int i = static_cast<int>(it - br.begin()) - 1;
+  return std::clamp(i, 0, n - 1);
+}
+gp_Pnt project(const H4& h) { return gp_Pnt(h.x / h.w, h.y / h.w, h.z / h.w); }
+}  // namespace
+
+int PiecewiseBezier::span_of(double t) const { return find_span(breaks, t); }
+
+gp_Pnt PiecewiseBezier::eval(double t) const {
+  const int i = span_of(t);
+  const double a = breaks[static_cast<std::size_t>(i)], b = breaks[static_cast<std::size_t>(i) + 1];
+  return project(casteljau(span(i), degree, (t - a) / (b - a)));
+}
+
+PatchGrid PatchGrid::from_face(const TopoDS_Face& face, int face_label) {
+  Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
+  if (surf.IsNull()) throw GeometryError(label(face_label) + " has no surface");
+  double u1, u2, v1, v2;
+  BRepTools::UVBounds(face, u1, u2, v1, v2);
+  if (!(u2 - u1 > Precision::PConfusion()) || !(v2 - v1 > Precision::PConfusion())) {
+    throw GeometryError(label(face_label) + " is degenerate: empty parameter range");
+  }
+  PatchGrid g;
+  try {
+    Handle(Geom_BSplineSurface) bs = to_bspline(surf, u1, u2, v1, v2);
+    double bu1, bu2, bv1, bv2;
+    bs->Bounds(bu1, bu2, bv1, bv2);
+    u1 = std::max(u1, bu1);
+    u2 = std::min(u2, bu2);
+    v1 = std::max(v1, bv1);
+    v2 = std::min(v2, bv2);
+    GeomConvert_BSplineSurfaceToBezierSurface conv(bs, u1, u2, v1, v2,
+                                                   Precision::PConfusion());
+    const int nu = conv.NbUPatches(), nv = conv.NbVPatches();
+    TColGeom_Array2OfBezierSurface patches(1, nu, 1, nv);
+    conv.Patches(patches);
+    TColStd_Array1OfReal uk(1, nu + 1), vk(1, nv + 1);
+    conv.UKnots(uk);
+    conv.VKnots(vk);
+    g.pu_ = bs->UDegree();
+    g.pv_ = bs->VDegree();
+    g.rational_ = bs->IsURational() || bs->IsVRational();
+    for (int i = 1; i <= nu + 1; ++i) g.ub_.push_back(uk(i));
+    for (int j = 1; j <= nv + 1; ++j) g.vb_.push_back(vk(j));
+    g.cps_.reserve(static_cast<std::size_t>(nu * nv * (g.pu_ + 1) * (g.pv_ + 1)));
+    for (int j = 1; j <= nv; ++j) {
+      for (int i = 1; i <= nu; ++i) {
+        const Handle(Geom_BezierSurface)& p = patches(i, j);
+        if (p->UDegree() != g.pu_ || p->VDegree() != g.pv_) {
+          throw GeometryError(label(face_label) + ": inconsistent patch degrees");
+        }
+        for (int b = 1; b <= g.pv_ + 1; ++b) {
+          for (int a = 1; a <= g.pu_ + 1; ++a) {
+            const gp_Pnt& q = p->Pole(a, b);
+            const double w = g.rational_ ? p->Weight(a, b) : 1.0;
+            g.cps_.push_back({q.X() * w, q.Y() * w, q.Z() * w, w});
+          }
+        }
+      }
+    }
+  } catch (const Standard_Failure& e) {
+    throw GeometryError(label(face_label) + ": OpenCASCADE could not convert its surface (" +
+                        e.GetMessageString() + ")");
+  }
+  g.flip_normal_ = face.Orientation() == TopAbs_REVERSED;
+  g.finish();
+  if (!(g.size_ > 1e-9)) throw GeometryError(label(face_label) + " is degenerate: zero size");
+  // A face whose surface collapses to a curve has no normal anywhere.
+  int regular = 0;
+  for (int a = 0; a <= 4; ++a) {
+    for (int b = 0; b <= 4; ++b) {
+      const double u = g.umin() + (g.umax() - g.umin()) * (0.1 + 0.2 * a);
+      const double v = g.vmin() + (g.vmax() - g.vmin()) * (0.1 + 0.2 * b);
+      const SurfaceDerivs d = g.d1(u, v);
+      if (d.su.Crossed(d.sv).Magnitude() > 1e-12 * g.size_ * g.size_) ++regular;
+    }
+  }
+  if (regular == 0) throw GeometryError(label(face_label) + " is degenerate: it has no area");
+  return g;
+}
+
+void PatchGrid::finish() {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (const H4& h : cps_) {
+    const double p[3] = {h.x / h.w, h.y / h.w, h.z / h.w};
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  }
+  size_ = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                    (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+PatchGrid PatchGrid::transposed() const {
+  PatchGrid t;
+  t.pu_ = pv_;
+  t.pv_ = pu_;
+  t.rational_ = rational_;
+  t.flip_normal_ = !flip_normal_;  // Sv x Su = -(Su x Sv)
+  t.ub_ = vb_;
+  t.vb_ = ub_;
+  t.size_ = size_;
+  t.cps_.resize(cps_.size());
+  const int nu = patches_u(), nv = patches_v();
+  for (int j = 0; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const H4* src = patch(i, j);
+      H4* dst = &t.cps_[static_cast<std::size_t>((i * nv + j) * (pu_ + 1) * (pv_ + 1))];
+      for (int b = 0; b <= pv_; ++b)
+        for (int a = 0; a <= pu_; ++a) dst[b + (pv_ + 1) * a] = src[a + (pu_ + 1) * b];
+    }
+  }
+  return t;
+}
+
+PiecewiseBezier PatchGrid::iso_v(double v) const {
+  PiecewiseBezier c;
+  c.degree = pu_;
+  c.breaks = ub_;
+  const int j = find_span(vb_, v);
+  const double t = (v - vb_[static_cast<std::size_t>(j)]) /
+                   (vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)]);
+  c.cps.resize(static_cast<std::size_t>(patches_u() * (pu_ + 1)));
+  std::array<H4, 32> column;
+  for (int i = 0; i < patches_u(); ++i) {
+    const H4* p = patch(i, j);
+    for (int a = 0; a <= pu_; ++a) {
+      for (int b = 0; b <= pv_; ++b) column[static_cast<std::size_t>(b)] = p[a + (pu_ + 1) * b];
+      c.cps[static_cast<std::size_t>(i * (pu_ + 1) + a)] = casteljau(column.data(), pv_, t);
+    }
+  }
+  return c;
+}
+
+gp_Pnt PatchGrid::eval(double u, double v) const { return d1(u, v).p; }
+
+SurfaceDerivs PatchGrid::d1(double u, double v) const {
+  const int i = find_span(ub_, u), j = find_span(vb_, v);
+  const double du = ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)];
+  const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
+  const double s = (u - ub_[static_cast<std::size_t>(i)]) / du;
+  const double t = (v - vb_[static_cast<std::size_t>(j)]) / dv;
+  const H4* p = patch(i, j);
+  // Columns in v: value and v-derivative at t, then the same in u.
+  std::array<H4, 32> q, qv, col, dcol;
+  for (int a = 0; a <= pu_; ++a) {
+    for (int b = 0; b <= pv_; ++b) col[static_cast<std::size_t>(b)] = p[a + (pu_ + 1) * b];
+    for (int b = 0; b < pv_; ++b)
+      dcol[static_cast<std::size_t>(b)] = (col[static_cast<std::size_t>(b) + 1] - col[static_cast<std::size_t>(b)]) * pv_;
+    q[static_cast<std::size_t>(a)] = casteljau(col.data(), pv_, t);
+    qv[static_cast<std::size_t>(a)] = casteljau(dcol.data(), pv_ - 1, t);
+  }
+  std::array<H4, 32> dq;
+  for (int a = 0; a < pu_; ++a)
+    dq[static_cast<std::size_t>(a)] = (q[static_cast<std::size_t>(a) + 1] - q[static_cast<std::size_t>(a)]) * pu_;
+  const H4 A = casteljau(q.data(), pu_, s);
+  const H4 Au = casteljau(dq.data(), pu_ - 1, s) * (1.0 / du);
+  const H4 Av = casteljau(qv.data(), pu_, s) * (1.0 / dv);
+  SurfaceDerivs d;
+  d.p = project(A);
+  const gp_Vec P(d.p.X(), d.p.Y(), d.p.Z());
+  d.su = (gp_Vec(Au.x, Au.y, Au.z) - P * Au.w) / A.w;
+  d.sv = (gp_Vec(Av.x, Av.y, Av.z) - P * Av.w) / A.w;
+  return d;
+}
+
+gp_Vec PatchGrid::normal(double u, double v, const SurfaceDerivs* at) const {
+  auto raw = [this](double uu, double vv) {
+    const SurfaceDerivs d = d1(uu, vv);
+    return d.su.Crossed(d.sv);
+  };
+  const double eps = 1e-14 * size_ * size_;
+  gp_Vec n = at ? at->su.Crossed(at->sv) : raw(u, v);
+  if (n.Magnitude() <= eps) {
+    // A pole or a collapsed edge: take the limit from the interior.
+    const double su = u < 0.5 * (umin() + umax()) ? 1.0 : -1.0;
+    const double sv = v < 0.5 * (vmin() + vmax()) ? 1.0 : -1.0;
+    for (double h = 1e-7; h < 1e-2 && n.Magnitude() <= eps; h *= 10.0) {
+      n = raw(u, v + sv * h * (vmax() - vmin())) + raw(u + su * h * (umax() - umin()), v);
+    }
+    if (n.Magnitude() <= eps) return gp_Vec(0, 0, 1);
+  }
+  n.Normalize();
+  return flip_normal_ ? -n : n;
+}
+
+}  // namespace isocam

@@ -1,0 +1,89 @@
+// Adaptive isocurve finishing with a ball-end tool.
+// G. Elber, E. Cohen, "Tool Path Generation for Freeform Surface Models",
+// Algorithm 1 and Definitions 1-4.
+//
+// Contract: for every picked face, adjacent (sub-)isocurves of the returned
+// coverage are never farther apart than delta (the iso-distance of
+// Definition 4), where delta is the stepover that gives the requested scallop
+// height on flat ground: r - sqrt(r^2 - (delta/2)^2) = h. The ball centre is
+// driven on the exact offset S + r N (N pointing away from the material, as
+// the face orientation says), each sub-isocurve linearised within the chord
+// tolerance, and the path is returned in tool-tip coordinates.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <TopoDS_Shape.hxx>
+
+#include "isocam/progress.h"
+#include "isocam/toolpath.h"
+
+namespace isocam {
+
+enum class IsoDirection {
+  Auto,  // per face, the direction with the shorter cutting length
+  U,     // iso-U curves: u constant, the curve runs along v
+  V,     // iso-V curves: v constant, the curve runs along u
+};
+
+enum class IsoPattern {
+  Adaptive,  // Algorithm 1: sub-isocurves only where needed
+  Uniform,   // baseline: complete isocurves equally spaced in parameter
+};
+
+struct IsoParams {
+  double ball_radius = 3.0;       // mm, > 0
+  double scallop_height = 0.01;   // mm, 0 < h < ball_radius
+  double chord_tolerance = 0.01;  // mm, > 0
+  IsoDirection direction = IsoDirection::Auto;
+  IsoPattern pattern = IsoPattern::Adaptive;
+  double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
+  int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
+  double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
+};
+
+// One sub-isocurve: on face `face`, the curve of constant `level` in the
+// direction `dir` (U or V), over parameters [t0, t1] of the other direction.
+// Parameters are those of the face's Bezier-patch representation (see
+// geometry/patch_grid.h), which equal the face's own parameters for B-spline
+// and Bezier surfaces.
+struct SubIsocurve {
+  int face = 0;
+  IsoDirection dir = IsoDirection::V;
+  double level = 0.0;
+  double t0 = 0.0, t1 = 0.0;
+};
+
+struct IsoMetrics {
+  double delta = 0.0;             // the iso-distance tolerance used
+  double cutting_length = 0.0;    // feed moves (mm)
+  double rapid_length = 0.0;      // rapid moves (mm)
+  double plunge_length = 0.0;     // plunges from the safe height (mm)
+  int sub_isocurves = 0;
+  int retracts = 0;
+  double max_iso_distance = 0.0;  // largest iso-distance left between adjacent curves
+  double guaranteed_scallop = 0.0;  // flat-ground scallop for max_iso_distance
+};
+
+struct IsoResult {
+  Toolpath path;
+  IsoMetrics metrics;
+  std::vector<SubIsocurve> curves;        // the coverage, in machining order
+  std::vector<IsoDirection> face_direction;  // direction used per picked face
+};
+
+// delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2).
+double stepover_for_scallop(double ball_radius, double scallop_height);
+// Inverse: flat-ground scallop height left by adjacent curves delta apart.
+double scallop_for_stepover(double ball_radius, double delta);
+
+// Throws InvalidArgument for bad parameters, an out-of-range or duplicate
+// face index, or an empty shape; GeometryError for a degenerate face or when
+// the recursion guards trip; Cancelled if progress->cancel_requested.
+IsoResult adaptive_isocurve(const TopoDS_Shape& shape,
+                            const std::vector<int>& faces,
+                            const IsoParams& params,
+                            Progress* progress = nullptr);
+
+}  // namespace isocam

@@ -1,0 +1,32 @@
+#include <cmath>
+
+#include "isocam/toolpath.h"
+
+namespace isocam {
+
+void Toolpath::append(const Toolpath& other) {
+  kind.insert(kind.end(), other.kind.begin(), other.kind.end());
+  x.insert(x.end(), other.x.begin(), other.x.end());
+  y.insert(y.end(), other.y.begin(), other.y.end());
+  z.insert(z.end(), other.z.begin(), other.z.end());
+}
+
+PathLengths measure(const Toolpath& path) {
+  PathLengths m;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const double dx = path.x[i] - path.x[i - 1], dy = path.y[i] - path.y[i - 1];
+    const double dz = path.z[i] - path.z[i - 1];
+    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    switch (static_cast<MoveKind>(path.kind[i])) {
+      case MoveKind::Feed: m.feed += len; break;
+      case MoveKind::Plunge: m.plunge += len; break;
+      case MoveKind::Rapid:
+        m.rapid += len;
+        if (dz > 0 && std::abs(dx) + std::abs(dy) < 1e-12) ++m.retracts;
+        break;
+    }
+  }
+  return m;
+}
+
+}  // namespace isocam

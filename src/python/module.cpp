@@ -1,0 +1,153 @@
+// The one pybind11 module: converts arguments, releases the GIL, calls the
+// core, returns flat numpy arrays (ENGINEERING.md, habits 2-4). No algorithm
+// lives here.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <memory>
+
+#include <Standard_Failure.hxx>
+
+#include "isocam/adaptive_isocurve.h"
+#include "isocam/brep_io.h"
+#include "isocam/errors.h"
+
+namespace py = pybind11;
+using namespace isocam;
+
+namespace {
+
+const char* direction_name(IsoDirection d) {
+  return d == IsoDirection::U ? "U" : d == IsoDirection::V ? "V" : "Auto";
+}
+
+struct PyIsoResult {
+  py::array_t<std::uint8_t> kind;
+  py::array_t<double> xyz;
+  IsoMetrics metrics;
+  std::vector<std::string> face_direction;
+  std::vector<SubIsocurve> curves;
+};
+
+PyIsoResult to_python(IsoResult&& r) {
+  PyIsoResult out;
+  const auto n = static_cast<py::ssize_t>(r.path.size());
+  out.kind = py::array_t<std::uint8_t>(n);
+  if (n > 0) std::memcpy(out.kind.mutable_data(), r.path.kind.data(), r.path.size());
+  out.xyz = py::array_t<double>({n, py::ssize_t(3)});
+  auto xyz = out.xyz.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    xyz(i, 0) = r.path.x[k];
+    xyz(i, 1) = r.path.y[k];
+    xyz(i, 2) = r.path.z[k];
+  }
+  out.metrics = r.metrics;
+  for (IsoDirection d : r.face_direction) out.face_direction.emplace_back(direction_name(d));
+  out.curves = std::move(r.curves);
+  return out;
+}
+
+PyIsoResult run_adaptive(const std::string& brep, const std::vector<int>& faces,
+                         const IsoParams& params, Progress* progress) {
+  IsoResult r;
+  {
+    py::gil_scoped_release release;
+    try {
+      const TopoDS_Shape shape = read_brep(brep);
+      r = adaptive_isocurve(shape, faces, params, progress);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(std::string("OpenCASCADE failed: ") + e.GetMessageString());
+    }
+  }
+  return to_python(std::move(r));
+}
+
+}  // namespace
+
+PYBIND11_MODULE(isocam_core, m) {
+  m.doc() = "IsoCAM core: adaptive isocurve finishing (Elber & Cohen) for ball-end tools";
+
+  static py::exception<Cancelled> cancelled(m, "CancelledError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InvalidArgument& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const Cancelled& e) {
+      cancelled(e.what());
+    } catch (const GeometryError& e) {
+      PyErr_SetString(PyExc_RuntimeError, e.what());
+    }
+  });
+
+  py::enum_<IsoDirection>(m, "IsoDirection")
+      .value("Auto", IsoDirection::Auto)
+      .value("U", IsoDirection::U)
+      .value("V", IsoDirection::V);
+  py::enum_<IsoPattern>(m, "IsoPattern")
+      .value("Adaptive", IsoPattern::Adaptive)
+      .value("Uniform", IsoPattern::Uniform);
+
+  py::class_<IsoParams>(m, "IsoParams", "Parameters of adaptive isocurve finishing (mm)")
+      .def(py::init<>())
+      .def_readwrite("ball_radius", &IsoParams::ball_radius)
+      .def_readwrite("scallop_height", &IsoParams::scallop_height)
+      .def_readwrite("chord_tolerance", &IsoParams::chord_tolerance)
+      .def_readwrite("direction", &IsoParams::direction)
+      .def_readwrite("pattern", &IsoParams::pattern)
+      .def_readwrite("safe_z", &IsoParams::safe_z)
+      .def_readwrite("max_depth", &IsoParams::max_depth)
+      .def_readwrite("min_param_gap", &IsoParams::min_param_gap);
+
+  py::class_<Progress, std::shared_ptr<Progress>>(
+      m, "Progress", "Shared progress/cancel flag; poll .fraction from another thread")
+      .def(py::init<>())
+      .def("cancel", &Progress::request_cancel)
+      .def_property_readonly("fraction", [](const Progress& p) { return p.fraction.load(); })
+      .def_property_readonly("cancelled", [](const Progress& p) { return p.cancel_requested.load(); });
+
+  py::class_<IsoMetrics>(m, "IsoMetrics")
+      .def_readonly("delta", &IsoMetrics::delta)
+      .def_readonly("cutting_length", &IsoMetrics::cutting_length)
+      .def_readonly("rapid_length", &IsoMetrics::rapid_length)
+      .def_readonly("plunge_length", &IsoMetrics::plunge_length)
+      .def_readonly("sub_isocurves", &IsoMetrics::sub_isocurves)
+      .def_readonly("retracts", &IsoMetrics::retracts)
+      .def_readonly("max_iso_distance", &IsoMetrics::max_iso_distance)
+      .def_readonly("guaranteed_scallop", &IsoMetrics::guaranteed_scallop);
+
+  py::class_<SubIsocurve>(m, "SubIsocurve")
+      .def_readonly("face", &SubIsocurve::face)
+      .def_property_readonly("direction", [](const SubIsocurve& c) { return direction_name(c.dir); })
+      .def_readonly("level", &SubIsocurve::level)
+      .def_readonly("t0", &SubIsocurve::t0)
+      .def_readonly("t1", &SubIsocurve::t1);
+
+  py::class_<PyIsoResult>(m, "IsoResult")
+      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge")
+      .def_readonly("xyz", &PyIsoResult::xyz, "float64 (N,3): move end points, tool tip, mm")
+      .def_readonly("metrics", &PyIsoResult::metrics)
+      .def_readonly("face_direction", &PyIsoResult::face_direction)
+      .def_readonly("curves", &PyIsoResult::curves);
+
+  m.attr("RAPID") = 0;
+  m.attr("FEED") = 1;
+  m.attr("PLUNGE") = 2;
+
+  m.def("stepover_for_scallop", &stepover_for_scallop, py::arg("ball_radius"),
+        py::arg("scallop_height"), "Flat-ground stepover delta = 2 sqrt(2 r h - h^2)");
+  m.def("scallop_for_stepover", &scallop_for_stepover, py::arg("ball_radius"), py::arg("delta"));
+  m.def(
+      "adaptive_isocurve",
+      [](const std::string& brep, const std::vector<int>& faces, const IsoParams& params,
+         std::shared_ptr<Progress> progress) {
+        return run_adaptive(brep, faces, params, progress.get());
+      },
+      py::arg("brep"), py::arg("faces"), py::arg("params"), py::arg("progress") = nullptr,
+      "Adaptive isocurve finishing of the faces (0-based FaceN-1 indices) of the B-rep text.\n"
+      "Raises ValueError for bad arguments, RuntimeError for geometry failures,\n"
+      "CancelledError when progress.cancel() was called.");
+}
