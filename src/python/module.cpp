@@ -100,6 +100,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readwrite("pattern", &IsoParams::pattern)
       .def_readwrite("safe_z", &IsoParams::safe_z)
       .def_readwrite("max_depth", &IsoParams::max_depth)
+      .def_readwrite("gouge_tolerance", &IsoParams::gouge_tolerance)
       .def_readwrite("min_param_gap", &IsoParams::min_param_gap);
 
   py::class_<Progress, std::shared_ptr<Progress>>(
@@ -117,7 +118,8 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("sub_isocurves", &IsoMetrics::sub_isocurves)
       .def_readonly("retracts", &IsoMetrics::retracts)
       .def_readonly("max_iso_distance", &IsoMetrics::max_iso_distance)
-      .def_readonly("guaranteed_scallop", &IsoMetrics::guaranteed_scallop);
+      .def_readonly("guaranteed_scallop", &IsoMetrics::guaranteed_scallop)
+      .def_readonly("unreachable_length", &IsoMetrics::unreachable_length);
 
   py::class_<SubIsocurve>(m, "SubIsocurve")
       .def_readonly("face", &SubIsocurve::face)

@@ -51,20 +51,29 @@ class AdaptiveRecursion {
   }
 
  private:
-  // AdapIsoCurveAux over all parts of the common domain at once: the pieces
-  // of one pair that exceed delta share one middle isocurve level.
+  // AdapIsoCurveAux over all parts of the common domain at once: the parts
+  // of one pair that need refining share one middle isocurve level.
+  //
+  // A part needs a middle curve where the iso-distance exceeds delta (the
+  // paper's test) or where the strip between the two curves may be wider
+  // than 2 delta along the surface (a bound on the integral of |dS/dv|). The
+  // second test is what makes Definition 1 hold where the chord is short but
+  // the surface between is not, as between the two seam curves of a closed
+  // surface; elsewhere it is implied by the first and costs nothing.
   void aux(const Level& c1, const Level& c2, const std::vector<Interval>& domain, int depth) {
     progress_.check();
-    std::vector<Interval> exceed;
+    std::vector<Interval> refine;
     for (const Interval& d : domain) {
       const auto pieces = iso_distance_squared(c1.curve, c2.curve, d.lo, d.hi);
-      const std::vector<Interval> e = exceeding(pieces, delta_);
-      for (const Interval& ok : complement(e, d.lo, d.hi)) {
-        accept(c1, c2, ok, e.empty() ? &pieces : nullptr);
+      const std::vector<Interval> chord = exceeding(pieces, delta_);
+      const std::vector<Interval> wide = too_wide(c1.v, c2.v, d);
+      const std::vector<Interval> here = merged(chord, wide);
+      for (const Interval& ok : complement(here, d.lo, d.hi)) {
+        accept(c1, c2, ok, here.empty() ? &pieces : nullptr);
       }
-      exceed.insert(exceed.end(), e.begin(), e.end());
+      refine.insert(refine.end(), here.begin(), here.end());
     }
-    if (exceed.empty()) return;
+    if (refine.empty()) return;
     if (depth >= params_.max_depth) {
       throw GeometryError(face_label(face_) + ": Algorithm 1 needs more than max_depth = " +
                           std::to_string(params_.max_depth) + " levels of middle isocurves near v = " +
@@ -78,9 +87,52 @@ class AdaptiveRecursion {
     }
     const double vm = 0.5 * (c1.v + c2.v);
     const Level mid{vm, g_.iso_v(vm)};
-    for (const Interval& e : exceed) out_.curves.push_back({face_, dir_, vm, e.lo, e.hi});
-    aux(c1, mid, exceed, depth + 1);
-    aux(mid, c2, exceed, depth + 1);
+    for (const Interval& e : refine) out_.curves.push_back({face_, dir_, vm, e.lo, e.hi});
+    aux(c1, mid, refine, depth + 1);
+    aux(mid, c2, refine, depth + 1);
+  }
+
+  // Parts of d (whole parts of u-spans of the grid, clipped to d) where the
+  // strip between levels v1 and v2 may be wider than 2 delta along the
+  // surface.
+  std::vector<Interval> too_wide(double v1, double v2, const Interval& d) const {
+    std::vector<Interval> out;
+    const auto& br = g_.ubreaks();
+    const int parts = PatchGrid::kStripParts;
+    int first = static_cast<int>(std::upper_bound(br.begin(), br.end(), d.lo) - br.begin()) - 1;
+    first = std::clamp(first, 0, g_.patches_u() - 1);
+    for (int i = first; i < g_.patches_u() && br[static_cast<std::size_t>(i)] < d.hi; ++i) {
+      const double u0 = br[static_cast<std::size_t>(i)], u1 = br[static_cast<std::size_t>(i) + 1];
+      for (int s = 0; s < parts; ++s) {
+        const double w = g_.strip_width_bound(i, s, v1, v2);
+        if (w <= 2.0 * delta_) continue;
+        const Interval iv{std::max(d.lo, u0 + (u1 - u0) * s / parts),
+                          std::min(d.hi, u0 + (u1 - u0) * (s + 1) / parts)};
+        if (!(iv.hi > iv.lo)) continue;
+        if (!out.empty() && iv.lo <= out.back().hi) {
+          out.back().hi = iv.hi;
+        } else {
+          out.push_back(iv);
+        }
+      }
+    }
+    return out;
+  }
+
+  // Union of two sorted lists of disjoint intervals.
+  static std::vector<Interval> merged(const std::vector<Interval>& a, const std::vector<Interval>& b) {
+    std::vector<Interval> v = a;
+    v.insert(v.end(), b.begin(), b.end());
+    std::sort(v.begin(), v.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+    std::vector<Interval> out;
+    for (const Interval& x : v) {
+      if (!out.empty() && x.lo <= out.back().hi) {
+        out.back().hi = std::max(out.back().hi, x.hi);
+      } else {
+        out.push_back(x);
+      }
+    }
+    return out;
   }
 
   // A part of the domain where the pair is within delta: record the largest
@@ -137,25 +189,60 @@ void validate(const IsoParams& p) {
   if (!(p.min_param_gap > 0) || !(p.min_param_gap < 1))
     bad("min_param_gap must be in (0, 1) (got " + std::to_string(p.min_param_gap) + ")");
   if (!std::isfinite(p.safe_z)) bad("safe_z must be a finite height");
+  if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
+    bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
 }
 
 struct FaceResult {
   Toolpath path;
   FaceCoverage coverage;
-  IsoDirection dir;
-  int emitted = 0;
+  IsoDirection dir = IsoDirection::V;
+  FacePathStats stats;
 };
 
 FaceResult face_in_direction(const PatchGrid& grid, int face, IsoDirection dir, double delta,
-                             const IsoParams& p, const ProgressSlice& progress) {
+                             const IsoParams& p, const ClearanceModel& model,
+                             const ProgressSlice& progress) {
   const PatchGrid g = dir == IsoDirection::U ? grid.transposed() : grid;
   FaceResult r;
   r.dir = dir;
   r.coverage = p.pattern == IsoPattern::Uniform
                    ? uniform_coverage(g, face, dir, delta, p, progress)
                    : adaptive_coverage(g, face, dir, delta, p, progress);
-  r.path = face_toolpath(g, r.coverage.curves, p, &r.emitted);
+  r.path = face_toolpath(g, r.coverage.curves, p, model, &r.stats);
   return r;
+}
+
+// The faster of the requested directions (Auto: both) on one face.
+FaceResult best_direction(const PatchGrid& grid, int face, double delta, const IsoParams& params,
+                          const ClearanceModel& model, const ProgressSlice& progress) {
+  std::vector<IsoDirection> dirs{params.direction};
+  if (params.direction == IsoDirection::Auto) dirs = {IsoDirection::V, IsoDirection::U};
+  FaceResult best;
+  double best_len = 0;
+  const double n = double(dirs.size());
+  for (std::size_t di = 0; di < dirs.size(); ++di) {
+    FaceResult r = face_in_direction(grid, face, dirs[di], delta, params, model,
+                                     progress.sub(double(di) / n, double(di + 1) / n));
+    const double len = measure(r.path).feed;
+    if (di == 0 || len < best_len) {
+      best = std::move(r);
+      best_len = len;
+    }
+  }
+  return best;
+}
+
+void check_faces(const std::vector<int>& faces, std::size_t count) {
+  if (faces.empty()) throw InvalidArgument("faces: no face given");
+  std::set<int> seen;
+  for (int f : faces) {
+    if (f < 0 || f >= static_cast<int>(count))
+      throw InvalidArgument("faces: index " + std::to_string(f) + " is out of range (the shape has " +
+                            std::to_string(count) + " faces, indices 0.." +
+                            std::to_string(count - 1) + ")");
+    if (!seen.insert(f).second) throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
+  }
 }
 
 }  // namespace
@@ -203,53 +290,45 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty");
   const std::vector<TopoDS_Face> all = faces_of(shape);
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
-  if (faces.empty()) throw InvalidArgument("faces: no face given");
-  std::set<int> seen;
-  for (int f : faces) {
-    if (f < 0 || f >= static_cast<int>(all.size()))
-      throw InvalidArgument("faces: index " + std::to_string(f) + " is out of range (the shape has " +
-                            std::to_string(all.size()) + " faces, indices 0.." +
-                            std::to_string(all.size() - 1) + ")");
-    if (!seen.insert(f).second) throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
-  }
+  check_faces(faces, all.size());
   const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
   // Algorithm 1 runs a hair inside delta so that rounding (and the 1e-9
   // tangential slack of the root finder) never lets a pair exceed delta.
   const double delta_work = delta * (1.0 - 4e-9);
   IsoResult result;
   result.metrics.delta = delta;
-  double max_dist = 0.0;
-  for (std::size_t k = 0; k < faces.size(); ++k) {
-    const int f = faces[k];
+  std::vector<PatchGrid> grids;
+  ClearanceModel model(params.gouge_tolerance);
+  for (int f : faces) {
     try {
-      const PatchGrid grid = PatchGrid::from_face(all[static_cast<std::size_t>(f)], f);
-      std::vector<IsoDirection> dirs{params.direction};
-      if (params.direction == IsoDirection::Auto) dirs = {IsoDirection::V, IsoDirection::U};
-      FaceResult best;
-      double best_len = 0;
-      const ProgressSlice face_progress =
-          ProgressSlice(progress).sub(double(k) / double(faces.size()), double(k + 1) / double(faces.size()));
-      for (std::size_t di = 0; di < dirs.size(); ++di) {
-        const IsoDirection d = dirs[di];
-        const double n = double(dirs.size());
-        FaceResult r = face_in_direction(grid, f, d, delta_work, params,
-                                         face_progress.sub(double(di) / n, double(di + 1) / n));
-        const double len = measure(r.path).feed;
-        if (best.path.empty() || len < best_len) {
-          best = std::move(r);
-          best_len = len;
-        }
-      }
-      for (SubIsocurve& c : best.coverage.curves) result.curves.push_back(c);
-      result.face_direction.push_back(best.dir);
-      result.metrics.sub_isocurves += best.emitted;
-      max_dist = std::max(max_dist, best.coverage.max_iso_distance);
-      result.path.append(best.path);
+      grids.push_back(PatchGrid::from_face(all[static_cast<std::size_t>(f)], f));
     } catch (const Standard_Failure& e) {
       throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
     }
-    report_progress(progress, double(k + 1) / double(faces.size()));
+    // The ball is kept clear of every picked face, its own included where it
+    // curves tighter than the ball.
+    model.add(grids.back());
   }
+  model.build();
+  double max_dist = 0.0;
+  const double nf = double(faces.size());
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const int f = faces[k];
+    FaceResult best;
+    try {
+      best = best_direction(grids[k], f, delta_work, params, model,
+                            ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+    result.curves.insert(result.curves.end(), best.coverage.curves.begin(), best.coverage.curves.end());
+    result.face_direction.push_back(best.dir);
+    result.metrics.sub_isocurves += best.stats.curves;
+    result.metrics.unreachable_length += best.stats.unreachable_length;
+    max_dist = std::max(max_dist, best.coverage.max_iso_distance);
+    result.path.append(best.path);
+  }
+  report_progress(progress, 1.0);
   double top = -1e300;
   for (std::size_t i = 0; i < result.path.size(); ++i)
     if (result.path.kind[i] != static_cast<std::uint8_t>(MoveKind::Rapid)) top = std::max(top, result.path.z[i]);

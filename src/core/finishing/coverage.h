@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/clearance.h"
 #include "geometry/patch_grid.h"
 #include "isocam/adaptive_isocurve.h"
 
@@ -29,13 +30,21 @@ FaceCoverage uniform_coverage(const PatchGrid& grid, int face, IsoDirection dir,
                               double delta, const IsoParams& params,
                               const ProgressSlice& progress);
 
+struct FacePathStats {
+  int curves = 0;                   // sub-isocurves with something to cut
+  double unreachable_length = 0.0;  // ball-centre path left out: no clearance
+};
+
 // Orders the curves (cross-iso order, zig-zag), drives the ball centre on the
-// offset surface, linearises within the chord tolerance and links adjacent
-// curves by feed moves on the offset surface, others by a retract to safe_z.
-// The path starts with a rapid to the safe height above its first point and
-// ends with a retract.
+// offset surface, linearises within the chord tolerance, cuts away the parts
+// where the ball would come closer than r to the model (exactly where they
+// start, to the clearance model's tolerance) and links adjacent curves by
+// feed moves on the offset surface where the link keeps the clearance,
+// others by a retract to safe_z. The path starts with a rapid to the safe
+// height above its first point and ends with a retract.
 Toolpath face_toolpath(const PatchGrid& grid, std::vector<SubIsocurve> curves,
-                       const IsoParams& params, int* emitted_curves);
+                       const IsoParams& params, const ClearanceModel& model,
+                       FacePathStats* stats);
 
 std::string face_label(int face);
 

@@ -1,6 +1,11 @@
-// Ordering, offsetting, linearisation and linking of one face's coverage.
+// Ordering, offsetting, linearisation, gouge trimming and linking of one
+// face's coverage.
 #include <algorithm>
 #include <cmath>
+#include <functional>
+
+#include <gp.hxx>
+#include <gp_Ax1.hxx>
 
 #include "finishing/coverage.h"
 #include "toolpath/linearize.h"
@@ -8,30 +13,169 @@
 namespace isocam {
 namespace {
 
-// Ball centre on the exact offset S + r N at parameters (t, level) of the
-// working grid (t along the curve).
-struct OffsetSurface {
-  const PatchGrid& g;
-  double r;
-  gp_Pnt centre(double t, double level) const {
-    const SurfaceDerivs d = g.d1(t, level);
-    return d.p.Translated(g.normal(t, level, &d) * r);
+// Ball centres with the curve parameter of each.
+struct CentrePolyline {
+  std::vector<gp_Pnt> pts;
+  std::vector<double> t;
+  void push(const gp_Pnt& p, double s) {
+    pts.push_back(p);
+    t.push_back(s);
+  }
+  double length() const {
+    double s = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i) s += pts[i - 1].Distance(pts[i]);
+    return s;
   }
 };
 
-struct Piece {
-  SubIsocurve c;
-  bool forward = true;
-  std::vector<gp_Pnt> pts;  // ball centres
-  double start() const { return forward ? c.t0 : c.t1; }
-  double end() const { return forward ? c.t1 : c.t0; }
+gp_Pnt centre_at(const PatchGrid& g, int span, double t, double level, double r) {
+  const SurfaceDerivs d = g.d1_on_span(span, t, level);
+  return d.p.Translated(g.normal(t, level, &d) * r);
+}
+
+// Ball centres along a sub-isocurve, span by span with one-sided evaluation
+// so that a C0 span break (a crease) is seen from both sides. Where the
+// normal jumps at a convex crease the ball rolls around the crease: centres
+// on the circle of radius r about the crease point, from the incoming normal
+// to the outgoing one, within the chord tolerance. (At a concave crease the
+// two offsets cross; the clearance trimming removes what overlaps.)
+CentrePolyline centres_along(const PatchGrid& g, const SubIsocurve& c, bool forward, double r,
+                             double tol) {
+  std::vector<double> knots{c.t0};
+  for (double b : g.ubreaks())
+    if (b > c.t0 && b < c.t1) knots.push_back(b);
+  knots.push_back(c.t1);
+  if (!forward) std::reverse(knots.begin(), knots.end());
+  CentrePolyline out;
+  gp_Vec n_in;
+  for (std::size_t k = 0; k + 1 < knots.size(); ++k) {
+    const double a = knots[k], b = knots[k + 1];
+    const int span = g.span_of_u(0.5 * (a + b));
+    std::vector<double> ts;
+    const auto seg = linearize([&](double t) { return centre_at(g, span, t, c.level, r); }, a, b,
+                               tol, {}, 2, &ts);
+    const SurfaceDerivs d0 = g.d1_on_span(span, a, c.level);
+    const gp_Vec n_out = g.normal(a, c.level, &d0);
+    if (!out.pts.empty() && out.pts.back().Distance(seg.front()) > 1e-9) {
+      const gp_Vec travel = forward ? d0.su : -d0.su;
+      const double angle = n_in.Angle(n_out);
+      if (n_in.Dot(travel) < 0 && angle > 1e-9) {
+        const double step = 2.0 * std::acos(std::max(-1.0, 1.0 - tol / r));
+        const int steps = static_cast<int>(std::ceil(angle / step));
+        const gp_Ax1 axis(gp::Origin(), gp_Dir(n_in.Crossed(n_out)));
+        for (int s = 1; s < steps; ++s) out.push(d0.p.Translated(n_in.Rotated(axis, angle * s / steps) * r), a);
+      }
+    }
+    for (std::size_t i = 0; i < seg.size(); ++i) out.push(seg[i], ts[i]);
+    const SurfaceDerivs d1 = g.d1_on_span(span, b, c.level);
+    n_in = g.normal(b, c.level, &d1);
+  }
+  return out;
+}
+
+// Splits a centre polyline into the runs where the ball keeps `clearance`
+// from the model. Vertices are tested first; a boundary between a clear and
+// a violating vertex is located by bisection on the curve parameter (to 1e-4
+// of the chord tolerance). A chord between two clear vertices that is itself
+// not clear (another part of the model comes near the chord, not the curve)
+// is refined by curve points until its pieces are clear or shorter than the
+// chord tolerance, so that only what truly violates is cut away.
+class RunSplitter {
+ public:
+  RunSplitter(std::function<gp_Pnt(double)> at, const ClearanceModel& model, double clearance,
+              double tol)
+      : at_(std::move(at)), model_(model), clearance_(clearance), tol_(tol) {}
+
+  std::vector<CentrePolyline> split(const CentrePolyline& line) {
+    // A clear chord proves both its ends clear: vertices are tested on their
+    // own only next to a chord that is not clear (most chords are).
+    const std::size_t n = line.pts.size();
+    std::vector<char> chord(n, 1), ok(n, 1);
+    for (std::size_t i = 1; i < n; ++i) chord[i] = model_.clear(line.pts[i - 1], line.pts[i], clearance_);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool sure = (i > 0 && chord[i]) || (i + 1 < n && chord[i + 1]);
+      ok[i] = sure || model_.clear(line.pts[i], clearance_);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = line.t[i];
+      if (!ok[i]) {
+        if (i > 0 && ok[i - 1]) end_at(boundary(line.t[i - 1], t));
+        flush();
+        continue;
+      }
+      if (i > 0 && !ok[i - 1]) {
+        const double ta = boundary(t, line.t[i - 1]);
+        cur_.push(at_(ta), ta);
+      }
+      if (cur_.pts.empty()) {
+        cur_.push(line.pts[i], t);
+      } else if (chord[i] && cur_.t.back() == line.t[i - 1]) {
+        cur_.push(line.pts[i], t);
+      } else {
+        extend(cur_.t.back(), cur_.pts.back(), t, line.pts[i], 0);
+      }
+    }
+    flush();
+    return std::move(runs_);
+  }
+
+ private:
+  // cur_ ends at (ta, pa), clear; pb is clear: add the chord, refined.
+  void extend(double ta, const gp_Pnt& pa, double tb, const gp_Pnt& pb, int depth) {
+    if (model_.clear(pa, pb, clearance_)) {
+      cur_.push(pb, tb);
+      return;
+    }
+    if (pa.Distance(pb) <= tol_ || depth >= 20) {
+      flush();
+      cur_.push(pb, tb);
+      return;
+    }
+    const double tm = 0.5 * (ta + tb);
+    const gp_Pnt pm = at_(tm);
+    if (model_.clear(pm, clearance_)) {
+      extend(ta, pa, tm, pm, depth + 1);
+      extend(tm, pm, tb, pb, depth + 1);
+      return;
+    }
+    end_at(boundary(ta, tm));
+    flush();
+    const double t2 = boundary(tb, tm);
+    cur_.push(at_(t2), t2);
+    extend(t2, cur_.pts.back(), tb, pb, depth + 1);
+  }
+
+  double boundary(double t_ok, double t_bad) const {
+    for (int it = 0; it < 60 && at_(t_ok).Distance(at_(t_bad)) > 1e-4 * tol_; ++it) {
+      const double m = 0.5 * (t_ok + t_bad);
+      if (model_.clear(at_(m), clearance_)) t_ok = m; else t_bad = m;
+    }
+    return t_ok;
+  }
+
+  void end_at(double t) {
+    if (!cur_.pts.empty() && t != cur_.t.back()) cur_.push(at_(t), t);
+  }
+
+  void flush() {
+    if (cur_.pts.size() > 1) runs_.push_back(std::move(cur_));
+    cur_ = CentrePolyline();
+  }
+
+  std::function<gp_Pnt(double)> at_;
+  const ClearanceModel& model_;
+  double clearance_, tol_;
+  CentrePolyline cur_;
+  std::vector<CentrePolyline> runs_;
 };
 
-double polyline_length(const std::vector<gp_Pnt>& pts) {
-  double s = 0;
-  for (std::size_t i = 1; i < pts.size(); ++i) s += pts[i - 1].Distance(pts[i]);
-  return s;
-}
+struct Piece {
+  SubIsocurve c;  // t0 < t1 always; `forward` says which end is the start
+  bool forward = true;
+  CentrePolyline line;
+  double start() const { return line.t.front(); }
+  double end() const { return line.t.back(); }
+};
 
 bool overlap(const SubIsocurve& a, const SubIsocurve& b) {
   return std::min(a.t1, b.t1) > std::max(a.t0, b.t0);
@@ -40,48 +184,68 @@ bool overlap(const SubIsocurve& a, const SubIsocurve& b) {
 }  // namespace
 
 Toolpath face_toolpath(const PatchGrid& g, std::vector<SubIsocurve> curves,
-                       const IsoParams& params, int* emitted_curves) {
+                       const IsoParams& params, const ClearanceModel& model,
+                       FacePathStats* stats) {
   // Cross-iso order (Definition 3 adjacency follows from it: consecutive
   // curves whose domains overlap have nothing between them).
   std::sort(curves.begin(), curves.end(), [](const SubIsocurve& a, const SubIsocurve& b) {
     return a.level < b.level || (a.level == b.level && a.t0 < b.t0);
   });
-  const OffsetSurface off{g, params.ball_radius};
-  const double tol = params.chord_tolerance;
+  const double r = params.ball_radius, tol = params.chord_tolerance, safe = params.safe_z;
+  // A chord of the offset may cut into it by the chord tolerance; the
+  // clearance check is exact to its own tolerance.
+  const double clearance = r - tol - model.tolerance();
+  FacePathStats st;
   std::vector<Piece> pieces;
   for (const SubIsocurve& c : curves) {
-    Piece p;
-    p.c = c;
-    p.forward = pieces.size() % 2 == 0;  // zig-zag
-    p.pts = linearize([&](double t) { return off.centre(t, c.level); }, p.start(), p.end(), tol,
-                      g.ubreaks());
+    const bool forward = pieces.size() % 2 == 0;  // zig-zag
+    const CentrePolyline line = centres_along(g, c, forward, r, tol);
     // A boundary collapsed to a pole offsets to a single point: nothing to cut.
-    if (polyline_length(p.pts) > 1e-6) pieces.push_back(std::move(p));
+    const double full = line.length();
+    if (full <= 1e-6) continue;
+    ++st.curves;
+    double kept = 0;
+    RunSplitter splitter([&](double t) { return centre_at(g, g.span_of_u(t), t, c.level, r); },
+                         model, clearance, tol);
+    for (CentrePolyline& run : splitter.split(line)) {
+      kept += run.length();
+      pieces.push_back({c, forward, std::move(run)});
+    }
+    st.unreachable_length += full - kept;
   }
-  if (emitted_curves) *emitted_curves = static_cast<int>(pieces.size());
 
   Toolpath path;
-  const double r = params.ball_radius, safe = params.safe_z;
-  auto tip = [&](MoveKind k, const gp_Pnt& c) { path.add(k, c.X(), c.Y(), c.Z() - r); };
+  auto tip = [&](MoveKind k, const gp_Pnt& p) { path.add(k, p.X(), p.Y(), p.Z() - r); };
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     const Piece& p = pieces[i];
-    const bool linked = i > 0 && overlap(pieces[i - 1].c, p.c);
-    if (linked) {
-      // Feed link on the offset surface along the straight parameter segment.
+    std::vector<gp_Pnt> link;
+    if (i > 0 && overlap(pieces[i - 1].c, p.c)) {
+      // Feed link on the offset surface along the straight parameter
+      // segment, kept only if the whole link keeps the clearance.
       const Piece& q = pieces[i - 1];
       const double t0 = q.end(), v0 = q.c.level, t1 = p.start(), v1 = p.c.level;
-      const auto link = linearize(
-          [&](double s) { return off.centre(t0 + (t1 - t0) * s, v0 + (v1 - v0) * s); }, 0.0, 1.0,
-          tol, {}, 2);
+      link = linearize(
+          [&](double s) {
+            const double t = t0 + (t1 - t0) * s;
+            return centre_at(g, g.span_of_u(t), t, v0 + (v1 - v0) * s, r);
+          },
+          0.0, 1.0, tol, {}, 2);
+      link.front() = q.line.pts.back();
+      link.back() = p.line.pts.front();
+      for (std::size_t k = 1; k < link.size() && !link.empty(); ++k)
+        if (!model.clear(link[k - 1], link[k], clearance)) link.clear();
+    }
+    if (!link.empty()) {
       for (std::size_t k = 1; k < link.size(); ++k) tip(MoveKind::Feed, link[k]);
     } else {
       if (i > 0) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
-      path.add(MoveKind::Rapid, p.pts.front().X(), p.pts.front().Y(), safe);
-      tip(MoveKind::Plunge, p.pts.front());
+      path.add(MoveKind::Rapid, p.line.pts.front().X(), p.line.pts.front().Y(), safe);
+      tip(MoveKind::Plunge, p.line.pts.front());
     }
-    for (std::size_t k = 1; k < p.pts.size(); ++k) tip(MoveKind::Feed, p.pts[k]);
+    for (std::size_t k = 1; k < p.line.pts.size(); ++k) tip(MoveKind::Feed, p.line.pts[k]);
   }
   if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
+  if (stats) *stats = st;
   return path;
 }
 

@@ -185,38 +185,42 @@ std::vector<Interval> positive_intervals(const Bernstein& f, double t_tol,
 }
 
 double max_ratio(const Bernstein& num, const Bernstein& den, double rel_tol) {
-  // Branch and bound: a piece's upper bound is max(num)/min(den); its lower
-  // bound is the ratio at its ends (actual values). Stop when the best upper
-  // bound is within rel_tol of the best value found.
+  // Branch and bound. With num and den at the same degree and den's
+  // coefficients positive, num/den <= max_k num_k/den_k on the piece (num is
+  // a combination of the same Bernstein basis as den); the bound is exact for
+  // a constant ratio and converges quadratically under subdivision. The
+  // lower bound is the actual ratio at the piece's ends.
+  const int d = std::max(num.degree(), den.degree());
   struct Piece {
     Bernstein n, d;
     double upper;
     bool operator<(const Piece& o) const { return upper < o.upper; }
   };
-  auto upper = [](const Bernstein& n, const Bernstein& d) {
-    const double dmin = d.min_coeff();
-    const double nmax = n.max_coeff();
-    if (dmin <= 0) return nmax > 0 ? 1e300 : 0.0;
-    return nmax > 0 ? nmax / dmin : nmax / d.max_coeff();
-  };
-  auto at_ends = [](const Bernstein& n, const Bernstein& d) {
-    const std::size_t k = static_cast<std::size_t>(n.degree());
-    const std::size_t l = static_cast<std::size_t>(d.degree());
-    return std::max(n[0] / d[0], n[k] / d[l]);
-  };
-  double best = at_ends(num, den);
-  std::priority_queue<Piece> queue;
-  queue.push({num, den, upper(num, den)});
-  for (int it = 0; it < 4000 && !queue.empty(); ++it) {
-    Piece p = queue.top();
-    if (p.upper <= best + rel_tol * std::abs(best) + 1e-300) return p.upper;
-    queue.pop();
-    auto ns = p.n.split(0.5);
-    auto ds = p.d.split(0.5);
-    for (auto& half : {std::make_pair(ns.first, ds.first), std::make_pair(ns.second, ds.second)}) {
-      best = std::max(best, at_ends(half.first, half.second));
-      queue.push({half.first, half.second, upper(half.first, half.second)});
+  auto upper = [](const Bernstein& n, const Bernstein& dd) {
+    double u = -1e300;
+    for (std::size_t k = 0; k < n.coeffs().size(); ++k) {
+      if (!(dd[k] > 0)) return 1e300;  // no bound without a positive denominator
+      u = std::max(u, n[k] / dd[k]);
     }
+    return u;
+  };
+  auto at_ends = [](const Bernstein& n, const Bernstein& dd) {
+    const std::size_t k = static_cast<std::size_t>(n.degree());
+    return std::max(n[0] / dd[0], n[k] / dd[k]);
+  };
+  const Bernstein n0 = num.elevated(d), d0 = den.elevated(d);
+  double best = at_ends(n0, d0);
+  std::priority_queue<Piece> queue;
+  queue.push({n0, d0, upper(n0, d0)});
+  for (int it = 0; it < 2000 && !queue.empty(); ++it) {
+    const Piece& top = queue.top();
+    if (top.upper <= best + rel_tol * std::abs(best) + 1e-300) return top.upper;
+    auto ns = top.n.split(0.5);
+    auto ds = top.d.split(0.5);
+    queue.pop();
+    best = std::max({best, at_ends(ns.first, ds.first), at_ends(ns.second, ds.second)});
+    queue.push({ns.first, ds.first, upper(ns.first, ds.first)});
+    queue.push({ns.second, ds.second, upper(ns.second, ds.second)});
   }
   return queue.empty() ? best : std::max(best, queue.top().upper);
 }

@@ -72,6 +72,27 @@ H4 casteljau(const H4* cps, int degree, double t) {
   return b[0];
 }
 
+void restrict_h4(const H4* cps, int degree, double a, double b, H4* out) {
+  // de Casteljau twice: keep the right part at a, then the left part of that.
+  const int n = degree + 1;
+  // Right part at a: r_i = the i-th from the right of the triangle.
+  std::vector<H4> tri(cps, cps + n), right(static_cast<std::size_t>(n));
+  right[static_cast<std::size_t>(n - 1)] = tri[static_cast<std::size_t>(n - 1)];
+  for (int k = 1; k < n; ++k) {
+    for (int i = 0; i + k < n; ++i) tri[static_cast<std::size_t>(i)] = tri[static_cast<std::size_t>(i)] * (1 - a) + tri[static_cast<std::size_t>(i) + 1] * a;
+    right[static_cast<std::size_t>(n - 1 - k)] = tri[static_cast<std::size_t>(n - 1 - k)];
+  }
+  // right[] now are the control points of [a, 1]; take its left part at t.
+  const double t = a < 1.0 ? (b - a) / (1.0 - a) : 1.0;
+  std::vector<H4> left(static_cast<std::size_t>(n));
+  left[0] = right[0];
+  for (int k = 1; k < n; ++k) {
+    for (int i = 0; i + k < n; ++i) right[static_cast<std::size_t>(i)] = right[static_cast<std::size_t>(i)] * (1 - t) + right[static_cast<std::size_t>(i) + 1] * t;
+    left[static_cast<std::size_t>(k)] = right[0];
+  }
+  std::copy(left.begin(), left.end(), out);
+}
+
 namespace {
 int find_span(const std::vector<double>& br, double t) {
   const int n = static_cast<int>(br.size()) - 1;
@@ -83,6 +104,7 @@ gp_Pnt project(const H4& h) { return gp_Pnt(h.x / h.w, h.y / h.w, h.z / h.w); }
 }  // namespace
 
 int PiecewiseBezier::span_of(double t) const { return find_span(breaks, t); }
+int PatchGrid::span_of_u(double u) const { return find_span(ub_, u); }
 
 gp_Pnt PiecewiseBezier::eval(double t) const {
   const int i = span_of(t);
@@ -168,6 +190,52 @@ void PatchGrid::finish() {
   }
   size_ = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  sv_bound_.assign(static_cast<std::size_t>(patches_u() * patches_v() * kStripParts), 0.0);
+  std::vector<H4> row(static_cast<std::size_t>(pu_ + 1)), part(static_cast<std::size_t>((pu_ + 1) * (pv_ + 1)));
+  for (int j = 0; j < patches_v(); ++j) {
+    const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
+    for (int i = 0; i < patches_u(); ++i) {
+      const H4* p = patch(i, j);
+      const double u0 = ub_[static_cast<std::size_t>(i)], u1 = ub_[static_cast<std::size_t>(i) + 1];
+      for (int s = 0; s < kStripParts; ++s) {
+        const double a0 = double(s) / kStripParts, a1 = double(s + 1) / kStripParts;
+        double m = 0.0;
+        if (!rational_) {
+          // The part's control net: each v-row restricted to [a0, a1] in u.
+          for (int b = 0; b <= pv_; ++b) {
+            for (int a = 0; a <= pu_; ++a) row[static_cast<std::size_t>(a)] = p[a + (pu_ + 1) * b];
+            restrict_h4(row.data(), pu_, a0, a1, &part[static_cast<std::size_t>((pu_ + 1) * b)]);
+          }
+          for (int b = 0; b < pv_; ++b)
+            for (int a = 0; a <= pu_; ++a) {
+              const H4 d = part[static_cast<std::size_t>(a + (pu_ + 1) * (b + 1))] -
+                           part[static_cast<std::size_t>(a + (pu_ + 1) * b)];
+              m = std::max(m, std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z) * pv_ / dv);
+            }
+        } else {
+          const double v0 = vb_[static_cast<std::size_t>(j)];
+          for (int a = 0; a <= 3; ++a)
+            for (int b = 0; b <= 6; ++b)
+              m = std::max(m, d1(u0 + (u1 - u0) * (a0 + (a1 - a0) * a / 3.0), v0 + dv * b / 6.0).sv.Magnitude());
+          m *= 1.25;
+        }
+        sv_bound_[static_cast<std::size_t>((j * patches_u() + i) * kStripParts + s)] = m;
+      }
+    }
+  }
+}
+
+double PatchGrid::strip_width_bound(int i, int s, double v1, double v2) const {
+  // L(u) = integral of |dS/dv| over [v1, v2] <= sum over the patch rows of
+  // the row's bound times the part of [v1, v2] inside the row.
+  double length = 0.0;
+  for (int j = find_span(vb_, v1); j < patches_v(); ++j) {
+    const double lo = std::max(v1, vb_[static_cast<std::size_t>(j)]);
+    const double hi = std::min(v2, vb_[static_cast<std::size_t>(j) + 1]);
+    if (lo >= v2) break;
+    if (hi > lo) length += sv_bound(i, s, j) * (hi - lo);
+  }
+  return length;
 }
 
 PatchGrid PatchGrid::transposed() const {
@@ -178,7 +246,6 @@ PatchGrid PatchGrid::transposed() const {
   t.flip_normal_ = !flip_normal_;  // Sv x Su = -(Su x Sv)
   t.ub_ = vb_;
   t.vb_ = ub_;
-  t.size_ = size_;
   t.cps_.resize(cps_.size());
   const int nu = patches_u(), nv = patches_v();
   for (int j = 0; j < nv; ++j) {
@@ -189,6 +256,7 @@ PatchGrid PatchGrid::transposed() const {
         for (int a = 0; a <= pu_; ++a) dst[b + (pv_ + 1) * a] = src[a + (pu_ + 1) * b];
     }
   }
+  t.finish();
   return t;
 }
 
@@ -213,8 +281,10 @@ PiecewiseBezier PatchGrid::iso_v(double v) const {
 
 gp_Pnt PatchGrid::eval(double u, double v) const { return d1(u, v).p; }
 
-SurfaceDerivs PatchGrid::d1(double u, double v) const {
-  const int i = find_span(ub_, u), j = find_span(vb_, v);
+SurfaceDerivs PatchGrid::d1(double u, double v) const { return d1_on_span(find_span(ub_, u), u, v); }
+
+SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
+  const int j = find_span(vb_, v);
   const double du = ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)];
   const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
   const double s = (u - ub_[static_cast<std::size_t>(i)]) / du;

@@ -60,6 +60,7 @@ class PatchGrid {
   double vmax() const { return vb_.back(); }
   int patches_u() const { return static_cast<int>(ub_.size()) - 1; }
   int patches_v() const { return static_cast<int>(vb_.size()) - 1; }
+  int span_of_u(double u) const;
 
   // The same surface with u and v exchanged; the material side is kept (the
   // normal of the transposed grid is the same vector in space).
@@ -70,6 +71,9 @@ class PatchGrid {
 
   gp_Pnt eval(double u, double v) const;
   SurfaceDerivs d1(double u, double v) const;
+  // d1 on u-span `ui` (its polynomial extended), for one-sided limits at a
+  // span break where the surface is only C0.
+  SurfaceDerivs d1_on_span(int ui, double u, double v) const;
   // Unit normal pointing away from the material (the face orientation's
   // side). At a degenerate point (a pole) the limit from the interior.
   // `at`, if given, is d1(u, v) already computed.
@@ -78,10 +82,25 @@ class PatchGrid {
   // Bounding box diagonal of the control net (a scale for tolerances).
   double size() const { return size_; }
 
- private:
+  // Each u-span is cut into kStripParts equal parts for the bounds below.
+  static constexpr int kStripParts = 8;
+  // An upper bound of |dS/dv| over part s of u-span i and v-span j: exact
+  // hull bound for polynomial patches (dS/dv is a convex combination of
+  // pv * dP / dv over the part's control net), a sampled maximum with a 25%
+  // margin for rational ones.
+  double sv_bound(int i, int s, int j) const {
+    return sv_bound_[static_cast<std::size_t>((j * patches_u() + i) * kStripParts + s)];
+  }
+  // Upper bound of the arc length across the strip v1 <= v <= v2, along any
+  // iso-u curve within part s of u-span i.
+  double strip_width_bound(int i, int s, double v1, double v2) const;
+
+  // Control net of patch (i, j): point (a, b) at index a + (pu + 1) * b.
   const H4* patch(int i, int j) const {
     return &cps_[static_cast<std::size_t>((j * patches_u() + i) * (pu_ + 1) * (pv_ + 1))];
   }
+
+ private:
   void finish();
 
   int pu_ = 0, pv_ = 0;
@@ -90,10 +109,13 @@ class PatchGrid {
   std::vector<double> ub_, vb_;
   // Patch (i, j) (i along u), control point (a, b): index a + (pu+1) * b.
   std::vector<H4> cps_;
+  std::vector<double> sv_bound_;
   double size_ = 0.0;
 };
 
 // Evaluate Bernstein form of homogeneous points at local t in [0, 1].
 H4 casteljau(const H4* cps, int degree, double t);
+// The control points of the same curve restricted to [a, b] within [0, 1].
+void restrict_h4(const H4* cps, int degree, double a, double b, H4* out);
 
 }  // namespace isocam

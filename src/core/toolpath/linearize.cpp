@@ -19,6 +19,7 @@ struct Refiner {
   const std::function<gp_Pnt(double)>& f;
   double tol;
   std::vector<gp_Pnt>& out;
+  std::vector<double>* params;
 
   void run(double ta, const gp_Pnt& pa, double tb, const gp_Pnt& pb, int depth) {
     const double tm = 0.5 * (ta + tb);
@@ -28,13 +29,16 @@ struct Refiner {
       const double dev = std::max({distance_to_segment(pm, pa, pb),
                                    distance_to_segment(q1, pa, pb),
                                    distance_to_segment(q3, pa, pb)});
-      if (dev > tol) {
+      // The chord's largest deviation need not fall on a quarter point: keep
+      // a 10% margin so the tolerance holds between them too.
+      if (dev > 0.9 * tol) {
         run(ta, pa, tm, pm, depth + 1);
         run(tm, pm, tb, pb, depth + 1);
         return;
       }
     }
     out.push_back(pb);
+    if (params) params->push_back(tb);
   }
 };
 
@@ -42,7 +46,8 @@ struct Refiner {
 
 std::vector<gp_Pnt> linearize(const std::function<gp_Pnt(double)>& f, double t0,
                               double t1, double tol,
-                              const std::vector<double>& breaks, int min_pieces) {
+                              const std::vector<double>& breaks, int min_pieces,
+                              std::vector<double>* params) {
   std::vector<double> knots{t0};
   const double lo = std::min(t0, t1), hi = std::max(t0, t1);
   std::vector<double> inner;
@@ -53,7 +58,8 @@ std::vector<gp_Pnt> linearize(const std::function<gp_Pnt(double)>& f, double t0,
   knots.push_back(t1);
 
   std::vector<gp_Pnt> out{f(t0)};
-  Refiner r{f, tol, out};
+  if (params) params->assign(1, t0);
+  Refiner r{f, tol, out, params};
   for (std::size_t k = 0; k + 1 < knots.size(); ++k) {
     const double a = knots[k], b = knots[k + 1];
     gp_Pnt pa = out.back();

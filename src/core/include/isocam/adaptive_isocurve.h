@@ -8,7 +8,11 @@
 // height on flat ground: r - sqrt(r^2 - (delta/2)^2) = h. The ball centre is
 // driven on the exact offset S + r N (N pointing away from the material, as
 // the face orientation says), each sub-isocurve linearised within the chord
-// tolerance, and the path is returned in tool-tip coordinates.
+// tolerance, and the path is returned in tool-tip coordinates. No gouge is
+// global: wherever a centre (or a chord between centres) would come closer
+// than r - chord_tolerance - gouge_tolerance to any picked face, its own
+// included where it curves tighter than the ball, the path is cut away there
+// and the length left out is reported.
 #pragma once
 
 #include <string>
@@ -40,6 +44,7 @@ struct IsoParams {
   IsoPattern pattern = IsoPattern::Adaptive;
   double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
+  double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
   double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
 };
 
@@ -64,6 +69,11 @@ struct IsoMetrics {
   int retracts = 0;
   double max_iso_distance = 0.0;  // largest iso-distance left between adjacent curves
   double guaranteed_scallop = 0.0;  // flat-ground scallop for max_iso_distance
+  // Length of ball-centre path left out because the ball cannot follow the
+  // offset there without coming closer than r - chord_tolerance -
+  // gouge_tolerance to a face (a concave region tighter than the ball):
+  // material is left there.
+  double unreachable_length = 0.0;
 };
 
 struct IsoResult {

@@ -1,0 +1,478 @@
+"""Adaptive isocurve finishing with a ball-end tool, as a FreeCAD Path operation.
+
+Thin operation (ENGINEERING.md, habit 6): ``opExecute`` maps the op's
+properties and its tool controller to ``isocam_core.IsoParams``, runs
+``isocam_core.adaptive_isocurve`` on the picked faces in a worker thread and
+turns the returned flat move arrays into ``Path.Command``s. It never writes
+the user's properties; it only writes the read-only "Certificate" properties
+(the core's metrics) after each run and prints them to the report view.
+
+Errors (habit 4, one error model). A bad input -- a tool that is not a ball
+end, no face picked, a parameter out of range (the core's ``ValueError``), a
+face the core cannot machine (its ``RuntimeError``), a cancel -- is logged
+with a message that names the tool, property or face; the op's Path is
+emptied, its certificate cleared, and :class:`IsoCAMError` is raised out of
+``execute``. FreeCAD then marks this object, and only it, invalid (red mark in
+the tree; ``obj.getStatusString()`` returns the message). This behaves well
+headless too: ``Document.recompute()`` does not raise, the other objects keep
+their values and objects depending on the op stay touched. FreeCAD's own ops
+log and return normally, which leaves a valid-looking op with a stale or
+empty path; we do not copy that.
+"""
+
+import threading
+import time
+
+import FreeCAD
+import Path
+
+from freecad_ext import compat
+from freecad_ext.compat import PathLog, PathOp
+
+__title__ = "IsoCAM Adaptive Isocurve operation"
+
+# Name under which the op is registered with the SetupSheet; Create(name)
+# picks up SetupSheet defaults when called with this name.
+OP_NAME = "AdaptiveIsocurve"
+
+DIRECTIONS = ("Auto", "U", "V")
+
+# Move kinds of the core's flat toolpath arrays (src/core toolpath.h).
+MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE = 0, 1, 2
+
+# (type, name, group, tooltip, default) of the user's parameters.
+_INPUTS = (
+    (
+        "App::PropertyLength",
+        "ScallopHeight",
+        "Adaptive Isocurve",
+        "Largest scallop height left between adjacent passes on flat ground; "
+        "sets the stepover. Must be smaller than the ball radius.",
+        0.01,
+    ),
+    (
+        "App::PropertyEnumeration",
+        "Direction",
+        "Adaptive Isocurve",
+        "Isocurve direction: U (u constant), V (v constant), or Auto "
+        "(per face, the one with the shorter cutting length).",
+        "Auto",
+    ),
+    (
+        "App::PropertyLength",
+        "ChordTolerance",
+        "Adaptive Isocurve",
+        "Largest distance between a pass and its linear G1 segments.",
+        0.01,
+    ),
+)
+
+# (type, property name, core metrics attribute or None, tooltip) of the
+# read-only outputs written after every run.
+_OUTPUTS = (
+    (
+        "App::PropertyLength",
+        "CuttingLength",
+        "cutting_length",
+        "Length of the feed moves",
+    ),
+    ("App::PropertyLength", "RapidLength", "rapid_length", "Length of the rapid moves"),
+    ("App::PropertyLength", "PlungeLength", "plunge_length", "Length of the plunges"),
+    (
+        "App::PropertyInteger",
+        "SubIsocurves",
+        "sub_isocurves",
+        "Number of (sub-)isocurves cut",
+    ),
+    (
+        "App::PropertyInteger",
+        "Retracts",
+        "retracts",
+        "Number of retracts to SafeHeight",
+    ),
+    (
+        "App::PropertyLength",
+        "IsoDistanceTolerance",
+        "delta",
+        "Stepover that leaves ScallopHeight on flat ground (the iso-distance bound)",
+    ),
+    (
+        "App::PropertyLength",
+        "MaxIsoDistance",
+        "max_iso_distance",
+        "Largest iso-distance left between adjacent isocurves",
+    ),
+    (
+        "App::PropertyLength",
+        "GuaranteedScallop",
+        "guaranteed_scallop",
+        "Flat-ground scallop height of MaxIsoDistance: the certified bound",
+    ),
+    ("App::PropertyString", "DirectionUsed", None, "Isocurve direction used, per face"),
+)
+_OUTPUT_GROUP = "Certificate"
+
+
+class IsoCAMError(Exception):
+    """An input the operation cannot be computed with; the message names it."""
+
+
+class ObjectAdaptiveIsocurve(PathOp.ObjectOp):
+    """Proxy of an Adaptive Isocurve operation (module-level so documents reopen)."""
+
+    def __init__(self, obj, name, parentJob=None, toolController=None):
+        # Read by isToolSupported/opSetDefaultValues while the base class
+        # picks the tool controller; not saved with the document.
+        self._requested_tc = toolController
+        self.active_progress = None
+        super().__init__(obj, name, parentJob)
+        self._requested_tc = None
+
+    # -- PathOp hooks -------------------------------------------------------
+
+    def opFeatures(self, obj):
+        # No FeatureDepths: the passes follow the surface, depths do not apply.
+        return (
+            PathOp.FeatureTool
+            | PathOp.FeatureHeights
+            | PathOp.FeatureBaseFaces
+            | PathOp.FeatureCoolant
+        )
+
+    def initOperation(self, obj):
+        # `obj` may be a SetupSheet OpPrototype: addProperty, setEditorMode
+        # and attribute assignment are all it supports.
+        _add_properties(obj, set_defaults=True)
+
+    def opOnDocumentRestored(self, obj):
+        # Files written by older versions may lack newer properties; editor
+        # modes are not saved.
+        _add_properties(obj, set_defaults=True)
+
+    def isToolSupported(self, obj, tool):
+        # FreeCAD offers (and, headless, picks) tool controllers through this
+        # filter. While Create() is given an explicit controller, only that
+        # one qualifies, which avoids FreeCAD's GUI-only choice among several.
+        requested = getattr(self, "_requested_tc", None)
+        if requested is not None:
+            return tool == requested.Tool
+        return compat.is_ball_end(tool)
+
+    def opSetDefaultValues(self, obj, job):
+        requested = getattr(self, "_requested_tc", None)
+        if requested is not None:
+            obj.ToolController = requested
+            obj.OpToolDiameter = requested.Tool.Diameter
+
+    def opExecute(self, obj):
+        started = time.monotonic()
+        try:
+            core = compat.import_core()
+        except ImportError as exc:
+            self._fail(obj, str(exc))
+        try:
+            results = self._compute(obj, core)
+        except (IsoCAMError, ValueError, RuntimeError, core.CancelledError) as exc:
+            self._fail(obj, _describe(exc))
+        except Exception:
+            _clear_outputs(obj)
+            obj.Path = Path.Path()
+            raise
+        self._emit_commands(obj, results)
+        metrics = _combined_metrics(results)
+        _write_outputs(obj, metrics, _directions_used(results))
+        _print_certificate(obj, metrics, time.monotonic() - started)
+
+    # -- steps of opExecute -------------------------------------------------
+
+    def _compute(self, obj, core):
+        """Run the core once per model object that has picked faces."""
+        _check_ball_end(obj)
+        picked = _picked_faces(obj)
+        params = _iso_params(obj, core, self.radius)
+        results = []
+        for base, faces in picked:
+            brep = base.Shape.exportBrepToString()
+            results.append(self._run_core(core, brep, faces, params, base))
+        results = [r for r in results if len(r.kind) > 0]
+        if not results:
+            raise IsoCAMError("the core returned no moves for the picked faces")
+        return results
+
+    def _run_core(self, core, brep, faces, params, base):
+        """Call the core in a worker thread (it releases the GIL) and wait.
+
+        The Progress object is kept in ``self.active_progress`` while the
+        core runs, so a task panel can poll its fraction or cancel() it.
+        """
+        progress = core.Progress()
+        outcome = {}
+
+        def work():
+            try:
+                outcome["result"] = core.adaptive_isocurve(
+                    brep, faces, params, progress
+                )
+            except BaseException as exc:  # handed to the calling thread
+                outcome["error"] = exc
+
+        worker = threading.Thread(target=work, name="isocam-adaptive-isocurve")
+        self.active_progress = progress
+        try:
+            worker.start()
+            _wait(worker, progress)
+        finally:
+            self.active_progress = None
+        if "error" in outcome:
+            exc = outcome["error"]
+            if isinstance(exc, RuntimeError) and not isinstance(
+                exc, core.CancelledError
+            ):
+                raise RuntimeError("%s (model %s)" % (exc, base.Label)) from exc
+            raise exc
+        return outcome["result"]
+
+    def _emit_commands(self, obj, results):
+        """Append the moves: up to ClearanceHeight, across, then the core's path.
+
+        The core's first move is a rapid to (x0, y0, SafeHeight) from
+        wherever the machine is; going across at ClearanceHeight first makes
+        that a straight descent.
+        """
+        clearance = obj.ClearanceHeight.Value
+        x0, y0 = (float(v) for v in results[0].xyz[0][:2])
+        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
+        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
+        for res in results:
+            self.commandlist.extend(
+                commands_from_moves(res.kind, res.xyz, self.horizFeed, self.vertFeed)
+            )
+
+    def _fail(self, obj, message):
+        """Report `message`, leave an empty path and no certificate, raise."""
+        message = "%s: %s" % (obj.Label, message)
+        PathLog.error(message)
+        _clear_outputs(obj)
+        obj.Path = Path.Path()
+        # The message says it all; FreeCAD prints the traceback of this raise.
+        raise IsoCAMError(message) from None
+
+
+# -- helpers (module level: small, no FreeCAD object state) -----------------
+
+
+def _add_properties(obj, set_defaults):
+    """Add the op's own properties that `obj` does not have yet."""
+    for prop_type, name, group, tip, default in _INPUTS:
+        if not hasattr(obj, name):
+            obj.addProperty(prop_type, name, group, tip)
+            if name == "Direction":
+                setattr(obj, name, list(DIRECTIONS))
+            if set_defaults:
+                setattr(obj, name, default)
+    for prop_type, name, _attr, tip in _OUTPUTS:
+        if not hasattr(obj, name):
+            obj.addProperty(prop_type, name, _OUTPUT_GROUP, tip)
+        obj.setEditorMode(name, 1)  # read-only in the property editor
+        if hasattr(obj, "setPropertyStatus"):  # not on a SetupSheet prototype
+            # Output: writing it during execute does not touch the op again.
+            obj.setPropertyStatus(name, ["ReadOnly", "Output"])
+
+
+def _check_ball_end(obj):
+    tc = obj.ToolController
+    tool = tc.Tool
+    if not compat.is_ball_end(tool):
+        raise IsoCAMError(
+            "tool '%s' of tool controller '%s' is not a ball end (its shape is "
+            "'%s'); Adaptive Isocurve needs a ball-end tool (ToolBit shape "
+            "ballend.fcstd)"
+            % (compat.tool_label(tool), tc.Label, compat.tool_shape(tool) or "unknown")
+        )
+
+
+def _picked_faces(obj):
+    """[(model object, [0-based face indices])] from obj.Base, in pick order."""
+    picked = []
+    for base, subs in obj.Base or []:
+        indices = []
+        for sub in subs:
+            if not sub.startswith("Face") or not sub[4:].isdigit():
+                raise IsoCAMError(
+                    "Base %s.%s is not a face; pick faces of the Job's model"
+                    % (base.Label, sub)
+                )
+            index = int(sub[4:]) - 1
+            if index not in indices:
+                indices.append(index)
+        if indices:
+            picked.append((base, indices))
+    if not picked:
+        raise IsoCAMError(
+            "no faces picked: set Base to one or more faces of the Job's model"
+        )
+    return picked
+
+
+def _iso_params(obj, core, ball_radius):
+    """IsoParams from the op's properties; the core checks the ranges."""
+    params = core.IsoParams()
+    params.ball_radius = ball_radius
+    params.scallop_height = obj.ScallopHeight.Value
+    params.chord_tolerance = obj.ChordTolerance.Value
+    params.direction = getattr(core.IsoDirection, obj.Direction)
+    params.safe_z = obj.SafeHeight.Value
+    return params
+
+
+# Core argument names -> what the FreeCAD user sets.
+_ARGUMENT_SOURCES = (
+    ("scallop_height", "property ScallopHeight"),
+    ("chord_tolerance", "property ChordTolerance"),
+    ("safe_z", "property SafeHeight"),
+    ("ball_radius", "the tool controller's tool diameter / 2"),
+    ("direction", "property Direction"),
+)
+
+
+def _describe(exc):
+    """The exception's message, plus which FreeCAD input a core argument is."""
+    message = str(exc) or type(exc).__name__
+    sources = [src for arg, src in _ARGUMENT_SOURCES if arg in message]
+    if sources:
+        message += " [set by %s]" % ", ".join(sources)
+    return message
+
+
+def _wait(worker, progress):
+    """Block until the worker ends; in the GUI keep the window painted."""
+    if not FreeCAD.GuiUp:
+        worker.join()
+        return
+    from PySide import QtCore, QtGui  # GUI only
+
+    import FreeCADGui
+
+    bar = FreeCADGui.getMainWindow().statusBar()
+    while worker.is_alive():
+        worker.join(0.1)
+        bar.showMessage("Adaptive isocurve: %d %%" % int(100 * progress.fraction))
+        # Paint only: user input could start another recompute meanwhile.
+        QtGui.QApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents)
+    bar.clearMessage()
+
+
+def commands_from_moves(kind, xyz, horiz_feed, vert_feed):
+    """Path.Commands for the core's flat arrays (kind (N,), xyz (N,3)).
+
+    Rapid -> G0; feed -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`
+    (FreeCAD's units: mm and mm/s).
+    """
+    commands = []
+    for k, (x, y, z) in zip(kind.tolist(), xyz.tolist()):
+        if k == MOVE_RAPID:
+            commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
+        elif k == MOVE_FEED:
+            commands.append(
+                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
+            )
+        elif k == MOVE_PLUNGE:
+            commands.append(
+                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": vert_feed})
+            )
+        else:
+            raise IsoCAMError("the core returned an unknown move kind %d" % k)
+    return commands
+
+
+def _combined_metrics(results):
+    """One set of metrics for the runs over several model objects.
+
+    Lengths and counts add up, the iso-distance bounds take the worst run.
+    Rapids that link one model object's path to the next are not counted.
+    """
+    first = results[0].metrics
+    combined = {"delta": first.delta}
+    for attr in ("cutting_length", "rapid_length", "plunge_length"):
+        combined[attr] = sum(getattr(r.metrics, attr) for r in results)
+    for attr in ("sub_isocurves", "retracts"):
+        combined[attr] = sum(int(getattr(r.metrics, attr)) for r in results)
+    for attr in ("max_iso_distance", "guaranteed_scallop"):
+        combined[attr] = max(getattr(r.metrics, attr) for r in results)
+    return combined
+
+
+def _directions_used(results):
+    return ", ".join(d for r in results for d in r.face_direction)
+
+
+def _write_outputs(obj, metrics, directions):
+    for _type, name, attr, _tip in _OUTPUTS:
+        if attr is not None:
+            setattr(obj, name, metrics[attr])
+    obj.DirectionUsed = directions
+
+
+def _clear_outputs(obj):
+    for prop_type, name, _attr, _tip in _OUTPUTS:
+        if hasattr(obj, name):
+            setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
+
+
+def _print_certificate(obj, m, seconds):
+    FreeCAD.Console.PrintMessage(
+        "IsoCAM %s: %d sub-isocurves (direction %s), cutting %.1f mm, "
+        "rapid %.1f mm, plunge %.1f mm, %d retracts; iso-distance bound "
+        "%.4f mm, max iso-distance %.4f mm -> guaranteed scallop %.5f mm "
+        "(requested %.5f mm); %.2f s\n"
+        % (
+            obj.Label,
+            m["sub_isocurves"],
+            obj.DirectionUsed,
+            m["cutting_length"],
+            m["rapid_length"],
+            m["plunge_length"],
+            m["retracts"],
+            m["delta"],
+            m["max_iso_distance"],
+            m["guaranteed_scallop"],
+            obj.ScallopHeight.Value,
+            seconds,
+        )
+    )
+
+
+def SetupProperties():
+    """Properties for which a Job's SetupSheet may hold defaults."""
+    return ["ScallopHeight", "Direction", "ChordTolerance"]
+
+
+def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
+    """Create an Adaptive Isocurve op and add it to `parentJob` (or the only Job).
+
+    `toolController`: use this one instead of letting FreeCAD choose (headless
+    FreeCAD cannot choose among several). Otherwise the job's only ball-end
+    tool controller, or the previous op's, is used.
+    """
+    created = obj is None
+    if created:
+        doc = parentJob.Document if parentJob is not None else FreeCAD.ActiveDocument
+        obj = doc.addObject("Path::FeaturePython", name)
+    try:
+        if parentJob is None:
+            obj.Proxy = ObjectAdaptiveIsocurve(obj, name, None, toolController)
+        else:
+            # FreeCAD finds the job by name in the active document only.
+            with compat.active_document(parentJob.Document):
+                obj.Proxy = ObjectAdaptiveIsocurve(obj, name, parentJob, toolController)
+    except compat.PathUtils.PathNoTCExistsException:
+        if created:  # leave the document as it was
+            obj.Document.removeObject(obj.Name)
+        raise IsoCAMError(
+            "%s: the Job has no ball-end tool controller; add one (ToolBit "
+            "shape ballend.fcstd) or pass toolController=" % name
+        ) from None
+    return obj
+
+
+compat.PathSetupSheet.RegisterOperation(OP_NAME, Create, SetupProperties)

@@ -1,0 +1,285 @@
+#include "geometry/clearance.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include <gp_Vec.hxx>
+
+#include "isocam/errors.h"
+
+namespace isocam {
+namespace {
+
+gp_Pnt project(const H4& h) { return gp_Pnt(h.x / h.w, h.y / h.w, h.z / h.w); }
+
+double point_segment_distance(const gp_Pnt& p, const gp_Pnt& a, const gp_Pnt& b) {
+  const gp_Vec ab(a, b), ap(a, p);
+  const double l2 = ab.SquareMagnitude();
+  const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return p.Distance(a.Translated(ab * t));
+}
+
+// A control net being subdivided (fixed storage: no allocation per piece).
+constexpr int kMaxNet = 100;  // up to degree 9 x 9
+struct Net {
+  int pu = 0, pv = 0, depth = 0;
+  std::array<H4, kMaxNet> c;  // (a, b) at a + (pu + 1) * b
+  int size() const { return (pu + 1) * (pv + 1); }
+  H4& at(int a, int b) { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
+  const H4& at(int a, int b) const { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
+};
+
+// Per-thread stack of pieces, reused across queries.
+std::vector<Net>& scratch() {
+  thread_local std::vector<Net> s;
+  return s;
+}
+
+// Splits the net at the parametric middle in u (along_u) or v.
+void split(const Net& n, bool along_u, Net& l, Net& r) {
+  l.pu = r.pu = n.pu;
+  l.pv = r.pv = n.pv;
+  l.depth = r.depth = n.depth + 1;
+  const int m = along_u ? n.pu : n.pv;          // degree along the split
+  const int lines = along_u ? n.pv + 1 : n.pu + 1;
+  std::array<H4, kMaxNet> w;
+  for (int line = 0; line < lines; ++line) {
+    for (int k = 0; k <= m; ++k) w[static_cast<std::size_t>(k)] = along_u ? n.at(k, line) : n.at(line, k);
+    auto put = [&](Net& net, int k, const H4& h) {
+      if (along_u) net.at(k, line) = h; else net.at(line, k) = h;
+    };
+    put(l, 0, w[0]);
+    put(r, m, w[static_cast<std::size_t>(m)]);
+    for (int s = 1; s <= m; ++s) {
+      for (int k = 0; k + s <= m; ++k)
+        w[static_cast<std::size_t>(k)] = (w[static_cast<std::size_t>(k)] + w[static_cast<std::size_t>(k) + 1]) * 0.5;
+      put(l, s, w[0]);
+      put(r, m - s, w[static_cast<std::size_t>(m - s)]);
+    }
+  }
+}
+
+// An oriented box around points, in a frame taken from four corner points
+// (so a nearly flat piece of surface gets a thin box).
+struct Obb {
+  gp_XYZ axes[3] = {gp_XYZ(1, 0, 0), gp_XYZ(0, 1, 0), gp_XYZ(0, 0, 1)};
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+
+  Obb(const gp_Pnt* pts, int n, const gp_Pnt corners[4]) {
+    const gp_Vec t1 = gp_Vec(corners[0], corners[1]) + gp_Vec(corners[2], corners[3]);
+    const gp_Vec t2 = gp_Vec(corners[0], corners[2]) + gp_Vec(corners[1], corners[3]);
+    const gp_Vec nrm = t1.Crossed(t2);
+    if (nrm.Magnitude() > 1e-12 && t1.Magnitude() > 1e-12) {
+      axes[2] = nrm.Normalized().XYZ();
+      axes[0] = t1.Normalized().XYZ();
+      axes[1] = axes[2].Crossed(axes[0]);
+    }
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < 3; ++j) {
+        const double s = pts[k].XYZ().Dot(axes[j]);
+        lo[j] = std::min(lo[j], s);
+        hi[j] = std::max(hi[j], s);
+      }
+  }
+  double extent() const { return std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}); }
+  gp_Pnt local(const gp_Pnt& p) const {
+    return gp_Pnt(p.XYZ().Dot(axes[0]), p.XYZ().Dot(axes[1]), p.XYZ().Dot(axes[2]));
+  }
+};
+
+}  // namespace
+
+double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
+                            const double hi[3]) {
+  // Exact: along p(t) = a + t (b - a) each axis contributes a piecewise
+  // linear excess (0 inside its slab), so the squared distance is a convex
+  // piecewise quadratic whose pieces end where p(t) crosses a slab plane.
+  // Minimise it on each piece in closed form.
+  const double pa[3] = {a.X(), a.Y(), a.Z()};
+  const double dir[3] = {b.X() - a.X(), b.Y() - a.Y(), b.Z() - a.Z()};
+  double ts[8];
+  int n = 0;
+  ts[n++] = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    if (dir[k] == 0.0) continue;
+    for (double plane : {lo[k], hi[k]}) {
+      const double t = (plane - pa[k]) / dir[k];
+      if (t > 0.0 && t < 1.0) ts[n++] = t;
+    }
+  }
+  ts[n++] = 1.0;
+  for (int i = 1; i < n; ++i)  // insertion sort of at most 8 values
+    for (int j = i; j > 0 && ts[j - 1] > ts[j]; --j) std::swap(ts[j - 1], ts[j]);
+  double best = 1e300;
+  for (int i = 0; i + 1 < n; ++i) {
+    const double t0 = ts[i], t1 = ts[i + 1], tm = 0.5 * (t0 + t1);
+    // Excess on each axis is alpha + beta t on this piece.
+    double A = 0, B = 0, C = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double p = pa[k] + tm * dir[k];
+      double alpha = 0, beta = 0;
+      if (p < lo[k]) {
+        alpha = lo[k] - pa[k];
+        beta = -dir[k];
+      } else if (p > hi[k]) {
+        alpha = pa[k] - hi[k];
+        beta = dir[k];
+      }
+      A += beta * beta;
+      B += 2 * alpha * beta;
+      C += alpha * alpha;
+    }
+    double t = A > 0 ? std::clamp(-B / (2 * A), t0, t1) : (B > 0 ? t0 : t1);
+    best = std::min(best, std::max(0.0, (A * t + B) * t + C));
+    if (best == 0.0) break;
+  }
+  return std::sqrt(best);
+}
+
+void ClearanceModel::Box::add(const gp_Pnt& p) {
+  const double q[3] = {p.X(), p.Y(), p.Z()};
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::min(lo[k], q[k]);
+    hi[k] = std::max(hi[k], q[k]);
+  }
+}
+
+void ClearanceModel::Box::add(const Box& b) {
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::min(lo[k], b.lo[k]);
+    hi[k] = std::max(hi[k], b.hi[k]);
+  }
+}
+
+void ClearanceModel::add(const PatchGrid& g) {
+  const std::size_t n = static_cast<std::size_t>((g.degree_u() + 1) * (g.degree_v() + 1));
+  if (n > static_cast<std::size_t>(kMaxNet))
+    throw GeometryError("surface degree " + std::to_string(g.degree_u()) + " x " +
+                        std::to_string(g.degree_v()) + " is above the supported 9 x 9");
+  for (int j = 0; j < g.patches_v(); ++j) {
+    for (int i = 0; i < g.patches_u(); ++i) {
+      Patch p;
+      p.pu = g.degree_u();
+      p.pv = g.degree_v();
+      p.first = cps_.size();
+      const H4* c = g.patch(i, j);
+      cps_.insert(cps_.end(), c, c + n);
+      std::array<gp_Pnt, kMaxNet> pts;
+      for (std::size_t k = 0; k < n; ++k) {
+        pts[k] = project(c[k]);
+        p.box.add(pts[k]);
+      }
+      const int pu = g.degree_u(), pv = g.degree_v();
+      const gp_Pnt corners[4] = {pts[0], pts[static_cast<std::size_t>(pu)],
+                                 pts[static_cast<std::size_t>((pu + 1) * pv)], pts[n - 1]};
+      const Obb obb(pts.data(), static_cast<int>(n), corners);
+      for (int k = 0; k < 3; ++k) {
+        p.axes[k] = obb.axes[k];
+        p.olo[k] = obb.lo[k];
+        p.ohi[k] = obb.hi[k];
+      }
+      patches_.push_back(p);
+    }
+  }
+}
+
+void ClearanceModel::build() {
+  order_.resize(patches_.size());
+  for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = static_cast<int>(i);
+  nodes_.clear();
+  if (!patches_.empty()) build_node(0, static_cast<int>(patches_.size()));
+}
+
+int ClearanceModel::build_node(int lo, int hi) {
+  const int id = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  Box box, centres;
+  for (int k = lo; k < hi; ++k) {
+    const Box& b = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])].box;
+    box.add(b);
+    centres.add(gp_Pnt(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
+  }
+  nodes_[static_cast<std::size_t>(id)].box = box;
+  if (hi - lo <= 4) {
+    nodes_[static_cast<std::size_t>(id)].patch_lo = lo;
+    nodes_[static_cast<std::size_t>(id)].patch_hi = hi;
+    return id;
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (centres.hi[k] - centres.lo[k] > centres.hi[axis] - centres.lo[axis]) axis = k;
+  const int mid = (lo + hi) / 2;
+  std::nth_element(order_.begin() + lo, order_.begin() + mid, order_.begin() + hi, [&](int x, int y) {
+    const Box& bx = patches_[static_cast<std::size_t>(x)].box;
+    const Box& by = patches_[static_cast<std::size_t>(y)].box;
+    return bx.lo[axis] + bx.hi[axis] < by.lo[axis] + by.hi[axis];
+  });
+  const int left = build_node(lo, mid);
+  const int right = build_node(mid, hi);
+  nodes_[static_cast<std::size_t>(id)].left = left;
+  nodes_[static_cast<std::size_t>(id)].right = right;
+  return id;
+}
+
+bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d) const {
+  if (nodes_.empty()) return true;
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const Node& n = nodes_[static_cast<std::size_t>(stack.back())];
+    stack.pop_back();
+    if (segment_box_distance(a, b, n.box.lo, n.box.hi) >= d) continue;
+    if (n.left >= 0) {
+      stack.push_back(n.left);
+      stack.push_back(n.right);
+      continue;
+    }
+    for (int k = n.patch_lo; k < n.patch_hi; ++k) {
+      const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
+      if (segment_box_distance(a, b, p.box.lo, p.box.hi) >= d) continue;
+      auto local = [&p](const gp_Pnt& q) {
+        return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
+      };
+      if (segment_box_distance(local(a), local(b), p.olo, p.ohi) >= d) continue;
+      if (!patch_clear(p, a, b, d)) return false;
+    }
+  }
+  return true;
+}
+
+bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_Pnt& b,
+                                 double d) const {
+  std::vector<Net>& stack = scratch();
+  stack.clear();
+  stack.emplace_back();
+  Net& root = stack.back();
+  root.pu = patch.pu;
+  root.pv = patch.pv;
+  std::copy(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
+            cps_.begin() + static_cast<std::ptrdiff_t>(patch.first) + root.size(), root.c.begin());
+  std::array<gp_Pnt, kMaxNet> pts;
+  while (!stack.empty()) {
+    const Net net = stack.back();
+    stack.pop_back();
+    const int n = net.size();
+    for (int k = 0; k < n; ++k) pts[static_cast<std::size_t>(k)] = project(net.c[static_cast<std::size_t>(k)]);
+    // A witness: the piece's corners are points of the surface.
+    const gp_Pnt corners[4] = {pts[0], project(net.at(net.pu, 0)), project(net.at(0, net.pv)),
+                               pts[static_cast<std::size_t>(n - 1)]};
+    for (const gp_Pnt& q : corners)
+      if (point_segment_distance(q, a, b) < d) return false;
+    const Obb box(pts.data(), n, corners);
+    if (segment_box_distance(box.local(a), box.local(b), box.lo, box.hi) >= d) continue;
+    if (box.extent() <= eps_ || net.depth > 40) continue;  // clear within eps
+    // Split across the longer parametric direction of the control net.
+    const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
+    const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
+    stack.emplace_back();
+    stack.emplace_back();
+    split(net, lu >= lv, stack[stack.size() - 2], stack.back());
+  }
+  return true;
+}
+
+}  // namespace isocam

@@ -1,0 +1,205 @@
+// Adaptive isocurve finishing on real and built faces: the coverage of
+// Definition 1, the path following the offset of the curves, no gouge, and
+// the paper's Figure 2 comparison against uniform isocurves.
+#include <gtest/gtest.h>
+
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRepTools.hxx>
+#include <functional>
+#include <iostream>
+
+#include "isocam/adaptive_isocurve.h"
+#include "isocam/brep_io.h"
+#include "support/checks.h"
+#include "support/models.h"
+
+namespace isocam {
+namespace {
+
+struct FaceCase {
+  const char* name;
+  std::function<TopoDS_Shape()> shape;
+  int face;
+  double r, h, chord;
+  IsoDirection dir;
+};
+
+std::ostream& operator<<(std::ostream& os, const FaceCase& c) { return os << c.name; }
+
+class AdaptiveOnFace : public ::testing::TestWithParam<FaceCase> {};
+
+TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
+  const FaceCase& c = GetParam();
+  const TopoDS_Shape shape = c.shape();
+  const TopoDS_Face face = test::face(shape, c.face);
+  IsoParams p;
+  p.ball_radius = c.r;
+  p.scallop_height = c.h;
+  p.chord_tolerance = c.chord;
+  p.direction = c.dir;
+  p.safe_z = 1000;
+  const IsoResult res = adaptive_isocurve(shape, {c.face}, p);
+  const double delta = stepover_for_scallop(c.r, c.h);
+  EXPECT_DOUBLE_EQ(res.metrics.delta, delta);
+  EXPECT_GT(res.metrics.sub_isocurves, 2);
+  EXPECT_LE(res.metrics.max_iso_distance, delta);
+  EXPECT_LE(res.metrics.guaranteed_scallop, c.h);
+
+  // Definition 1 on an independent dense sampling of the face.
+  test::SegmentIndex contacts(delta);
+  for (const auto& curve : test::contact_curves(face, c.face, res, delta / 20)) contacts.add_polyline(curve);
+  const double gap = test::coverage_gap(face, contacts, 150, 2 * delta);
+  std::cout << c.name << ": delta " << delta << " coverage gap " << gap << " sub-isocurves "
+            << res.metrics.sub_isocurves << " cutting length " << res.metrics.cutting_length << "\n";
+  EXPECT_LT(gap, delta);
+
+  // The path really drives the ball along the offset of every curve: each
+  // sampled tip point of the offset curves lies within the chord tolerance of
+  // a feed move, or else the ball could not be there: its centre is closer
+  // than r - chord to the face (a point of the face that close is found),
+  // which is where the core leaves material and reports it.
+  const test::FaceCloud cloud(face, 600);
+  const test::SegmentIndex feeds = test::feed_segments(res.path, 1.0);
+  double worst = 0, unreachable = 0;
+  int off_path = 0;
+  for (const auto& curve : test::tip_curves(face, c.face, res, c.r, delta / 4)) {
+    for (const gp_Pnt& q : curve) {
+      const double d = feeds.distance(q, 1.0);
+      if (d <= c.chord + 1e-6) continue;
+      if (off_path++ % 4 == 0) {  // a sample of them
+        const double clearance = cloud.distance(gp_Pnt(q.X(), q.Y(), q.Z() + c.r));
+        unreachable = std::max(unreachable, clearance);
+      }
+      worst = std::max(worst, d);
+    }
+  }
+  std::cout << "  points off the path: " << off_path << ", their largest clearance " << unreachable
+            << ", unreachable length " << res.metrics.unreachable_length << "\n";
+  if (off_path > 0) {
+    EXPECT_LT(unreachable, c.r - c.chord);
+    EXPECT_GT(res.metrics.unreachable_length, 0.0);
+  }
+
+  // No gouge: the ball centre stays at least r (less the chord tolerance,
+  // the most a chord can cut into the offset, and the clearance check's
+  // tolerance) from the face, checked against a dense cloud of the face
+  // refined by local projection.
+  const double closest = test::min_centre_distance(cloud, res.path, c.r, 4000);
+  EXPECT_GE(closest, c.r - c.chord - p.gouge_tolerance - 1e-6);
+}
+
+TopoDS_Shape mat() { return test::load("MAT.brep"); }
+TopoDS_Shape wing() { return test::scaled(test::load("wing.brep"), 50.0); }
+TopoDS_Shape sphere() { return BRepPrimAPI_MakeSphere(25.0).Shape(); }
+TopoDS_Shape cylinder() { return BRepPrimAPI_MakeCylinder(15.0, 40.0).Shape(); }
+TopoDS_Shape torus() { return BRepPrimAPI_MakeTorus(30.0, 10.0).Shape(); }
+TopoDS_Shape figure2() { return test::figure2_ruled_surface(); }
+TopoDS_Shape creased() { return test::figure2_ruled_surface(true); }
+
+INSTANTIATE_TEST_SUITE_P(
+    Faces, AdaptiveOnFace,
+    ::testing::Values(FaceCase{"MAT_bicubic_6160_patches", mat, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
+                      FaceCase{"wing_degree8_ruled", wing, 0, 3.0, 0.02, 0.01, IsoDirection::V},
+                      FaceCase{"sphere_rational_with_poles", sphere, 0, 3.0, 0.02, 0.01, IsoDirection::U},
+                      FaceCase{"sphere_latitudes", sphere, 0, 3.0, 0.02, 0.01, IsoDirection::V},
+                      FaceCase{"cylinder_rational", cylinder, 0, 2.0, 0.01, 0.005, IsoDirection::Auto},
+                      FaceCase{"torus_rational", torus, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
+                      FaceCase{"figure2_ruled", figure2, 0, 5.0, 0.1, 0.01, IsoDirection::V},
+                      FaceCase{"convex_C0_creases", creased, 0, 5.0, 0.1, 0.01, IsoDirection::V}),
+    [](const ::testing::TestParamInfo<FaceCase>& tp) { return std::string(tp.param.name); });
+
+TEST(AdaptiveIsocurve, ShorterThanUniformIsocurvesOnFigure2) {
+  // The paper's Figure 2 argument: complete isocurves equally spaced in
+  // parameter must be spaced for the widest part and are redundant where the
+  // surface is narrow; adaptive sub-isocurves are not.
+  const TopoDS_Face f = test::figure2_ruled_surface();
+  IsoParams p;
+  p.ball_radius = 5.0;
+  p.scallop_height = 0.1;
+  p.direction = IsoDirection::V;
+  p.safe_z = 100;
+  const IsoResult adaptive = adaptive_isocurve(f, {0}, p);
+  p.pattern = IsoPattern::Uniform;
+  const IsoResult uniform = adaptive_isocurve(f, {0}, p);
+  std::cout << "Figure 2: adaptive " << adaptive.metrics.cutting_length << " mm ("
+            << adaptive.metrics.sub_isocurves << " sub-isocurves), uniform "
+            << uniform.metrics.cutting_length << " mm (" << uniform.metrics.sub_isocurves
+            << " isocurves)\n";
+  EXPECT_LE(uniform.metrics.max_iso_distance, uniform.metrics.delta);
+  EXPECT_LE(adaptive.metrics.max_iso_distance, adaptive.metrics.delta);
+  EXPECT_LT(adaptive.metrics.cutting_length, 0.75 * uniform.metrics.cutting_length);
+}
+
+TEST(AdaptiveIsocurve, AutoPicksTheShorterDirection) {
+  const TopoDS_Shape s = test::scaled(test::load("wing.brep"), 50.0);
+  IsoParams p;
+  p.scallop_height = 0.05;
+  p.safe_z = 1000;
+  double len[2];
+  for (IsoDirection d : {IsoDirection::U, IsoDirection::V}) {
+    p.direction = d;
+    len[d == IsoDirection::V] = adaptive_isocurve(s, {1}, p).metrics.cutting_length;
+  }
+  p.direction = IsoDirection::Auto;
+  const IsoResult a = adaptive_isocurve(s, {1}, p);
+  EXPECT_NEAR(a.metrics.cutting_length, std::min(len[0], len[1]), 1e-9);
+  ASSERT_EQ(a.face_direction.size(), 1u);
+  EXPECT_EQ(a.face_direction[0], len[0] < len[1] ? IsoDirection::U : IsoDirection::V);
+}
+
+TEST(AdaptiveIsocurve, PathShapeRetractsAndSafeHeight) {
+  // Every piece is entered from the safe height by a plunge and left by a
+  // vertical retract; the path ends at the safe height; adjacent pieces are
+  // linked without retracts.
+  const TopoDS_Shape s = test::figure2_ruled_surface();
+  IsoParams p;
+  p.ball_radius = 5;
+  p.scallop_height = 0.1;
+  p.direction = IsoDirection::V;
+  p.safe_z = 50;
+  const IsoResult r = adaptive_isocurve(s, {0}, p);
+  const Toolpath& t = r.path;
+  ASSERT_GT(t.size(), 3u);
+  EXPECT_EQ(t.kind[0], static_cast<std::uint8_t>(MoveKind::Rapid));
+  EXPECT_DOUBLE_EQ(t.z[0], 50.0);
+  EXPECT_EQ(t.kind[1], static_cast<std::uint8_t>(MoveKind::Plunge));
+  EXPECT_DOUBLE_EQ(t.x[1], t.x[0]);
+  EXPECT_DOUBLE_EQ(t.y[1], t.y[0]);
+  EXPECT_EQ(t.kind.back(), static_cast<std::uint8_t>(MoveKind::Rapid));
+  EXPECT_DOUBLE_EQ(t.z.back(), 50.0);
+  int plunges = 0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Plunge)) {
+      ++plunges;
+      EXPECT_EQ(t.kind[i - 1], static_cast<std::uint8_t>(MoveKind::Rapid));
+      EXPECT_DOUBLE_EQ(t.z[i - 1], 50.0);
+    }
+    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed)) {
+      EXPECT_LT(t.z[i], 50.0);
+    }
+  }
+  EXPECT_EQ(plunges, r.metrics.retracts);
+  EXPECT_LT(r.metrics.retracts, r.metrics.sub_isocurves);
+}
+
+TEST(AdaptiveIsocurve, CancelStopsTheWork) {
+  Progress progress;
+  progress.request_cancel();
+  IsoParams p;
+  p.safe_z = 100;
+  EXPECT_THROW(adaptive_isocurve(test::load("MAT.brep"), {0}, p, &progress), Cancelled);
+}
+
+TEST(AdaptiveIsocurve, ProgressReachesOne) {
+  Progress progress;
+  IsoParams p;
+  p.scallop_height = 0.05;
+  p.safe_z = 100;
+  adaptive_isocurve(test::load("MAT.brep"), {0}, p, &progress);
+  EXPECT_DOUBLE_EQ(progress.fraction.load(), 1.0);
+}
+
+}  // namespace
+}  // namespace isocam

@@ -1,0 +1,73 @@
+"""Shared set-up for the headless FreeCAD tests (a helper, not a test file)."""
+
+import os
+import shutil
+import tempfile
+
+import FreeCAD
+import Part
+
+from freecad_ext import scripting
+
+DATA_DIR = os.environ.get("ISOCAM_TEST_DATA") or os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "data"
+)
+
+
+def load_shape(filename):
+    shape = Part.Shape()
+    shape.read(os.path.join(DATA_DIR, filename))
+    return shape
+
+
+class JobSetup:
+    """A new document with `filename`'s model, a Job on it and a 6 mm
+    ball-end tool controller (the Job also brings FreeCAD's default flat
+    end mill controller, "TC: Default Tool")."""
+
+    def __init__(self, name, filename="MAT.brep", ball_diameter=6.0):
+        self.doc = FreeCAD.newDocument(name)
+        self.doc_name = self.doc.Name
+        self.model = self.doc.addObject("Part::Feature", "Model")
+        self.model.Shape = load_shape(filename)
+        self.job = scripting.make_job(self.model)
+        self.ball_tc = scripting.make_ball_end_tool_controller(self.job, ball_diameter)
+        self.doc.recompute()
+
+    @property
+    def clone(self):
+        """The Job's copy of the model: faces are picked from it."""
+        return self.job.Model.Group[0]
+
+    def close(self):
+        if self.doc_name in FreeCAD.listDocuments():
+            FreeCAD.closeDocument(self.doc_name)
+
+
+def path_points(path):
+    """[(G-code name, x, y, z)] of a Path's moves, with modal coordinates
+    filled in (a G0 Z... keeps the previous x and y)."""
+    x = y = z = 0.0
+    points = []
+    for c in path.Commands:
+        if c.Name not in ("G0", "G1"):
+            continue
+        p = c.Parameters
+        x, y, z = p.get("X", x), p.get("Y", y), p.get("Z", z)
+        points.append((c.Name, x, y, z))
+    return points
+
+
+def rs274_or_fail(testcase):
+    """Path of LinuxCNC's rs274 (package linuxcnc-uspace) or fail the test."""
+    rs274 = shutil.which("rs274")
+    if rs274 is None:
+        testcase.fail("rs274 not found: install linuxcnc-uspace (./run does)")
+    return rs274
+
+
+def temp_dir(testcase):
+    """A temporary folder removed after the test."""
+    path = tempfile.mkdtemp(prefix="isocam-")
+    testcase.addCleanup(shutil.rmtree, path, True)
+    return path

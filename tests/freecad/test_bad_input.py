@@ -1,0 +1,136 @@
+"""Bad inputs to the Adaptive Isocurve op: each leaves that op invalid with an
+empty path and a message naming the culprit, FreeCAD keeps running and the
+other objects keep their values.
+
+Run: tests/freecad/run_in_freecad.sh tests/freecad/test_bad_input.py
+"""
+
+import unittest
+
+import FreeCAD
+
+import fc_test_support as support
+from freecad_ext import adaptive_isocurve, scripting
+
+
+class BadInputTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        # One valid op, computed once: the bystander every test checks.
+        cls.setup = support.JobSetup("IsoBad")
+        cls.flat_tc = scripting.make_tool_controller(
+            cls.setup.job, "endmill.fcstd", 6.0
+        )
+        cls.good = cls.new_op("Good", cls.setup.ball_tc)
+        cls.setup.doc.recompute()
+        cls.good_gcode = cls.good.Path.toGCode()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.setup.close()
+
+    @classmethod
+    def new_op(cls, label, tc, faces=("Face1",)):
+        op = adaptive_isocurve.Create(
+            adaptive_isocurve.OP_NAME, parentJob=cls.setup.job, toolController=tc
+        )
+        op.Label = label
+        op.Base = [(cls.setup.clone, list(faces))] if faces else []
+        return op
+
+    def setUp(self):
+        self.model_brep = self.setup.model.Shape.exportBrepToString()
+
+    def recompute_expecting_error(self, op, *fragments):
+        """Recompute; `op` must end invalid, empty, with all `fragments` in its message."""
+        self.setup.doc.recompute()  # must not raise: FreeCAD keeps going
+        message = op.getStatusString()
+        self.assertIn("Invalid", op.State, message)
+        for fragment in fragments:
+            self.assertIn(fragment, message)
+        self.assertEqual(len(op.Path.Commands), 0)
+        self.assertEqual(op.SubIsocurves, 0)
+        self.assertEqual(op.CuttingLength.Value, 0.0)
+        self.assert_bystanders_unchanged()
+        return message
+
+    def assert_bystanders_unchanged(self):
+        good = self.setup.doc.getObject(self.good.Name)
+        self.assertNotIn("Invalid", good.State)
+        self.assertEqual(good.Path.toGCode(), self.good_gcode)
+        self.assertEqual(self.setup.model.Shape.exportBrepToString(), self.model_brep)
+        self.assertGreater(len(FreeCAD.listDocuments()), 0)
+
+    def test_flat_end_tool_is_refused_by_name(self):
+        op = self.new_op("FlatTool", self.flat_tc)
+        self.assertIs(op.ToolController, self.flat_tc)
+        message = self.recompute_expecting_error(
+            op, "FlatTool", self.flat_tc.Tool.Label, "not a ball end", "endmill"
+        )
+        self.assertIn(self.flat_tc.Label, message)
+
+    def test_scallop_not_below_ball_radius_names_scallop_height(self):
+        op = self.new_op("BigScallop", self.setup.ball_tc)
+        for scallop in (3.0, 5.0):  # r = 3 mm
+            op.ScallopHeight = scallop
+            self.recompute_expecting_error(op, "scallop_height", "ScallopHeight")
+            self.assertEqual(op.ScallopHeight.Value, scallop)  # not rewritten
+
+    def test_zero_chord_tolerance_names_chord_tolerance(self):
+        op = self.new_op("NoChord", self.setup.ball_tc)
+        op.ChordTolerance = 0
+        self.recompute_expecting_error(op, "ChordTolerance")
+
+    def test_safe_height_below_the_path_names_safe_height(self):
+        op = self.new_op("LowSafe", self.setup.ball_tc)
+        op.setExpression("SafeHeight", None)
+        op.SafeHeight = 10.0  # the terrain reaches 33 mm
+        self.recompute_expecting_error(op, "safe_z", "SafeHeight")
+
+    def test_no_faces_picked(self):
+        op = self.new_op("NoFaces", self.setup.ball_tc, faces=())
+        self.recompute_expecting_error(op, "no faces picked")
+
+    def test_edge_instead_of_face_is_named(self):
+        op = self.new_op("EdgePicked", self.setup.ball_tc, faces=("Edge1",))
+        self.recompute_expecting_error(op, "Edge1", "not a face")
+
+    def test_face_index_out_of_range_is_named(self):
+        op = self.new_op("NoSuchFace", self.setup.ball_tc, faces=("Face7",))
+        # FreeCAD itself may drop a stale sub-element from Base; either way
+        # the op must not compute.
+        self.setup.doc.recompute()
+        self.assertIn("Invalid", op.State)
+        self.assertEqual(len(op.Path.Commands), 0)
+        self.assert_bystanders_unchanged()
+
+    def test_op_recovers_when_the_input_is_fixed(self):
+        op = self.new_op("Recovers", self.setup.ball_tc)
+        op.ScallopHeight = 4.0
+        self.recompute_expecting_error(op, "ScallopHeight")
+        op.ScallopHeight = 0.05
+        self.setup.doc.recompute()
+        self.assertNotIn("Invalid", op.State, op.getStatusString())
+        self.assertGreater(op.SubIsocurves, 0)
+        self.assertGreater(len(op.Path.Commands), 100)
+        self.assertLessEqual(op.GuaranteedScallop.Value, 0.05 * (1 + 1e-6))
+
+    def test_job_without_ball_end_tool_cannot_create_the_op(self):
+        setup = support.JobSetup("IsoNoBall")
+        self.addCleanup(setup.close)
+        # Keep only FreeCAD's default controller (a flat end mill).
+        tc = setup.ball_tc
+        setup.job.Tools.removeObject(tc)
+        setup.doc.removeObject(tc.Tool.Name)
+        setup.doc.removeObject(tc.Name)
+        self.assertTrue(setup.job.Tools.Group)
+        names = sorted(o.Name for o in setup.doc.Objects)
+        with self.assertRaises(adaptive_isocurve.IsoCAMError) as caught:
+            adaptive_isocurve.Create(adaptive_isocurve.OP_NAME, parentJob=setup.job)
+        self.assertIn("no ball-end tool controller", str(caught.exception))
+        self.assertEqual(sorted(o.Name for o in setup.doc.Objects), names)
+        self.assertEqual(setup.job.Operations.Group, [])
+
+
+if __name__ == "__main__":
+    unittest.main()
