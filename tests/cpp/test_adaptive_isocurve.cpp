@@ -203,3 +203,58 @@ TEST(AdaptiveIsocurve, ProgressReachesOne) {
 
 }  // namespace
 }  // namespace isocam
+
+namespace isocam {
+namespace {
+
+// Trimmed faces: the path stays inside the trimmed domain and covers it.
+struct TrimCase {
+  const char* name;
+  const char* file;
+  int face;
+  double r, h;
+};
+
+class AdaptiveOnTrimmedFace : public ::testing::TestWithParam<TrimCase> {};
+
+TEST_P(AdaptiveOnTrimmedFace, StaysInsideAndCoversTheTrimmedDomain) {
+  const TrimCase& c = GetParam();
+  const TopoDS_Shape shape = test::load(c.file);
+  const TopoDS_Face face = test::face(shape, c.face);
+  IsoParams p;
+  p.ball_radius = c.r;
+  p.scallop_height = c.h;
+  p.safe_z = 1000;
+  const IsoResult res = adaptive_isocurve(shape, {c.face}, p);
+  const double delta = res.metrics.delta;
+  // No contact point outside the trimmed domain (1e-6 mm: the hatcher's and
+  // the classifier's tolerances).
+  int outside = 0, checked = 0;
+  test::SegmentIndex contacts(delta);
+  for (const auto& curve : test::contact_curves(face, c.face, res, delta / 20)) {
+    contacts.add_polyline(curve);
+    for (const gp_Pnt& q : curve) {
+      if (++checked % 7) continue;
+      if (!test::in_face(face, q, 1e-6)) ++outside;
+    }
+  }
+  EXPECT_EQ(outside, 0) << "of " << checked / 7 << " contact points checked";
+  // Coverage of the trimmed domain (Definition 1), on an independent
+  // sampling classified against the face's own wires.
+  const double gap = test::coverage_gap(face, contacts, 200, 2 * delta);
+  std::cout << c.name << ": delta " << delta << " coverage gap " << gap << " sub-isocurves "
+            << res.metrics.sub_isocurves << "\n";
+  EXPECT_LT(gap, delta);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Faces, AdaptiveOnTrimmedFace,
+    ::testing::Values(TrimCase{"plane_with_two_holes", "face.brep", 0, 3.0, 0.05},
+                      TrimCase{"reversed_plane_with_hole", "Ball.brep", 5, 1.0, 0.01},
+                      TrimCase{"trimmed_reversed_sphere", "Ball.brep", 16, 1.0, 0.01},
+                      TrimCase{"trimmed_cylinder", "Ball.brep", 13, 1.0, 0.01},
+                      TrimCase{"trimmed_bspline", "shell1.brep", 10, 1.0, 0.01}),
+    [](const ::testing::TestParamInfo<TrimCase>& tp) { return std::string(tp.param.name); });
+
+}  // namespace
+}  // namespace isocam

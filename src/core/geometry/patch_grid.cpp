@@ -27,8 +27,12 @@ namespace {
 std::string label(int face) { return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")"; }
 
 // The face's surface as a non-periodic B-spline covering [u1,u2]x[v1,v2].
+// `same_params` tells whether the result keeps the face's parameters (B-spline
+// and Bezier surfaces) or reparametrises them (the NURBS form of an analytic
+// surface: a monotone map per direction).
 Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1,
-                                       double u2, double v1, double v2) {
+                                       double u2, double v1, double v2, bool* same_params) {
+  *same_params = true;
   while (auto trimmed = Handle(Geom_RectangularTrimmedSurface)::DownCast(surf)) {
     surf = trimmed->BasisSurface();
   }
@@ -42,6 +46,7 @@ Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1,
     return GeomConvert::SurfaceToBSplineSurface(bz);
   }
   // Analytic surfaces: exact rational conversion of the bounded piece.
+  *same_params = false;
   Handle(Geom_RectangularTrimmedSurface) piece =
       new Geom_RectangularTrimmedSurface(surf, u1, u2, v1, v2);
   try {
@@ -122,7 +127,7 @@ PatchGrid PatchGrid::from_face(const TopoDS_Face& face, int face_label) {
   }
   PatchGrid g;
   try {
-    Handle(Geom_BSplineSurface) bs = to_bspline(surf, u1, u2, v1, v2);
+    Handle(Geom_BSplineSurface) bs = to_bspline(surf, u1, u2, v1, v2, &g.same_params_);
     double bu1, bu2, bv1, bv2;
     bs->Bounds(bu1, bu2, bv1, bv2);
     u1 = std::max(u1, bu1);
@@ -243,6 +248,7 @@ PatchGrid PatchGrid::transposed() const {
   t.pu_ = pv_;
   t.pv_ = pu_;
   t.rational_ = rational_;
+  t.same_params_ = same_params_;
   t.flip_normal_ = !flip_normal_;  // Sv x Su = -(Su x Sv)
   t.ub_ = vb_;
   t.vb_ = ub_;

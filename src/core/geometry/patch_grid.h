@@ -52,6 +52,10 @@ class PatchGrid {
   int degree_u() const { return pu_; }
   int degree_v() const { return pv_; }
   bool rational() const { return rational_; }
+  // True if (u, v) of the grid are the face's own surface parameters (B-spline
+  // and Bezier faces); false for analytic faces, whose NURBS form maps each
+  // parameter by its own monotone function.
+  bool same_params_as_face() const { return same_params_; }
   const std::vector<double>& ubreaks() const { return ub_; }
   const std::vector<double>& vbreaks() const { return vb_; }
   double umin() const { return ub_.front(); }
@@ -106,6 +110,7 @@ class PatchGrid {
   int pu_ = 0, pv_ = 0;
   bool rational_ = false;
   bool flip_normal_ = false;  // true: away-from-material normal is -(Su x Sv)
+  bool same_params_ = true;
   std::vector<double> ub_, vb_;
   // Patch (i, j) (i along u), control point (a, b): index a + (pu+1) * b.
   std::vector<H4> cps_;

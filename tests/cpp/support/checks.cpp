@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <BRepClass_FaceClassifier.hxx>
 #include <Bnd_Box.hxx>
+#include <ShapeAnalysis_Surface.hxx>
+#include <TopoDS.hxx>
+#include <gp_Pnt2d.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
@@ -99,15 +103,26 @@ std::vector<std::vector<gp_Pnt>> tip_curves(const TopoDS_Face& face, int face_in
 
 double coverage_gap(const TopoDS_Face& face, const SegmentIndex& curves, int n, double cap) {
   Handle(Geom_Surface) s = BRep_Tool::Surface(face);
+  const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
   double u1, u2, v1, v2;
   BRepTools::UVBounds(face, u1, u2, v1, v2);
   double worst = 0.0;
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
-      const gp_Pnt p = s->Value(u1 + (u2 - u1) * i / n, v1 + (v2 - v1) * j / n);
-      worst = std::max(worst, curves.distance(p, cap));
+      const double u = u1 + (u2 - u1) * i / n, v = v1 + (v2 - v1) * j / n;
+      BRepClass_FaceClassifier inside(fwd, gp_Pnt2d(u, v), 1e-9);
+      if (inside.State() != TopAbs_IN) continue;
+      worst = std::max(worst, curves.distance(s->Value(u, v), cap));
     }
   return worst;
+}
+
+bool in_face(const TopoDS_Face& face, const gp_Pnt& p, double tol) {
+  const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+  ShapeAnalysis_Surface sas(BRep_Tool::Surface(face));
+  const gp_Pnt2d uv = sas.ValueOfUV(p, 1e-9);
+  BRepClass_FaceClassifier c(fwd, uv, tol);
+  return c.State() == TopAbs_IN || c.State() == TopAbs_ON;
 }
 
 std::int64_t FaceCloud::key(long i, long j, long k) const {

@@ -41,9 +41,14 @@ std::vector<std::vector<gp_Pnt>> tip_curves(const TopoDS_Face& face, int face_in
                                             const IsoResult& result, double r, double step);
 
 // Largest distance from an n x n sampling of the face (its own surface and
-// parameter bounds, independent of the core's representation) to the curves;
-// Definition 1 holds if it is below delta. Capped at `cap`.
+// parameter bounds, independent of the core's representation; only samples
+// inside the face's trimmed domain count) to the curves; Definition 1 holds
+// if it is below delta. Capped at `cap`.
 double coverage_gap(const TopoDS_Face& face, const SegmentIndex& curves, int n, double cap);
+
+// True if the surface point p (on the face's surface) lies in the face's
+// trimmed domain, within `tol` of it.
+bool in_face(const TopoDS_Face& face, const gp_Pnt& p, double tol);
 
 // The face as a dense cloud of surface points (n x n over its parameter
 // bounds) for distance queries that do not miss a far part of the face:

@@ -1,0 +1,183 @@
+// The entry point of adaptive isocurve finishing: checks the arguments,
+// builds each picked face's patch grid, trimmed domain and the clearance
+// model, runs Algorithm 1 (or the uniform baseline) per face and direction,
+// and assembles the path and its certificate.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <string>
+
+#include <Standard_Failure.hxx>
+
+#include "finishing/coverage.h"
+#include "geometry/trim_domain.h"
+#include "isocam/adaptive_isocurve.h"
+#include "isocam/brep_io.h"
+#include "isocam/errors.h"
+
+namespace isocam {
+namespace {
+
+// A picked face: its grid, and its trimmed domain (which refers to the grid,
+// so the two live together and are built in place).
+struct PickedFace {
+  int index;
+  PatchGrid grid;
+  std::optional<TrimDomain> trim;
+};
+
+void validate(const IsoParams& p) {
+  auto bad = [](const std::string& s) { throw InvalidArgument(s); };
+  if (!(p.ball_radius > 0) || !std::isfinite(p.ball_radius))
+    bad("ball_radius must be > 0 mm (got " + std::to_string(p.ball_radius) + ")");
+  if (!(p.scallop_height > 0) || !(p.scallop_height < p.ball_radius))
+    bad("scallop_height must be > 0 and < the ball radius " + std::to_string(p.ball_radius) +
+        " mm (got " + std::to_string(p.scallop_height) + ")");
+  if (!(p.chord_tolerance > 0) || !std::isfinite(p.chord_tolerance))
+    bad("chord_tolerance must be > 0 mm (got " + std::to_string(p.chord_tolerance) + ")");
+  if (p.max_depth < 1) bad("max_depth must be >= 1 (got " + std::to_string(p.max_depth) + ")");
+  if (!(p.min_param_gap > 0) || !(p.min_param_gap < 1))
+    bad("min_param_gap must be in (0, 1) (got " + std::to_string(p.min_param_gap) + ")");
+  if (!std::isfinite(p.safe_z)) bad("safe_z must be a finite height");
+  if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
+    bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
+}
+
+struct FaceResult {
+  Toolpath path;
+  FaceCoverage coverage;
+  IsoDirection dir = IsoDirection::V;
+  FacePathStats stats;
+};
+
+// The coverage's curves clipped to the face's trimmed domain (Elber &
+// Cohen, section 3: isocurves of the untrimmed surface, then trimmed).
+std::vector<SubIsocurve> clip_to_face(const std::vector<SubIsocurve>& curves,
+                                      const TrimDomain& trim) {
+  std::vector<SubIsocurve> out;
+  for (const SubIsocurve& c : curves) {
+    for (const Interval& iv : trim.inside(c.dir == IsoDirection::V, c.level, c.t0, c.t1)) {
+      SubIsocurve piece = c;
+      piece.t0 = iv.lo;
+      piece.t1 = iv.hi;
+      out.push_back(piece);
+    }
+  }
+  return out;
+}
+
+FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, double delta,
+                             const IsoParams& p, const ClearanceModel& model,
+                             const ProgressSlice& progress) {
+  const PatchGrid g = dir == IsoDirection::U ? face.grid.transposed() : face.grid;
+  FaceResult r;
+  r.dir = dir;
+  r.coverage = p.pattern == IsoPattern::Uniform
+                   ? uniform_coverage(g, face.index, dir, delta, p, progress)
+                   : adaptive_coverage(g, face.index, dir, delta, p, progress);
+  r.coverage.curves = clip_to_face(r.coverage.curves, *face.trim);
+  r.path = face_toolpath(g, r.coverage.curves, p, model, &r.stats);
+  return r;
+}
+
+// The faster of the requested directions (Auto: both) on one face.
+FaceResult best_direction(const PickedFace& face, double delta, const IsoParams& params,
+                          const ClearanceModel& model, const ProgressSlice& progress) {
+  std::vector<IsoDirection> dirs{params.direction};
+  if (params.direction == IsoDirection::Auto) dirs = {IsoDirection::V, IsoDirection::U};
+  FaceResult best;
+  double best_len = 0;
+  const double n = double(dirs.size());
+  for (std::size_t di = 0; di < dirs.size(); ++di) {
+    FaceResult r = face_in_direction(face, dirs[di], delta, params, model,
+                                     progress.sub(double(di) / n, double(di + 1) / n));
+    const double len = measure(r.path).feed;
+    if (di == 0 || len < best_len) {
+      best = std::move(r);
+      best_len = len;
+    }
+  }
+  return best;
+}
+
+void check_faces(const std::vector<int>& faces, std::size_t count) {
+  if (faces.empty()) throw InvalidArgument("faces: no face given");
+  std::set<int> seen;
+  for (int f : faces) {
+    if (f < 0 || f >= static_cast<int>(count))
+      throw InvalidArgument("faces: index " + std::to_string(f) + " is out of range (the shape has " +
+                            std::to_string(count) + " faces, indices 0.." +
+                            std::to_string(count - 1) + ")");
+    if (!seen.insert(f).second) throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
+  }
+}
+
+}  // namespace
+
+IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
+                            const IsoParams& params, Progress* progress) {
+  validate(params);
+  if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty");
+  const std::vector<TopoDS_Face> all = faces_of(shape);
+  if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
+  check_faces(faces, all.size());
+  const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  // Algorithm 1 runs a hair inside delta so that rounding (and the 1e-9
+  // tangential slack of the root finder) never lets a pair exceed delta.
+  const double delta_work = delta * (1.0 - 4e-9);
+  IsoResult result;
+  result.metrics.delta = delta;
+  std::vector<PickedFace> picked;
+  picked.reserve(faces.size());
+  ClearanceModel model(params.gouge_tolerance);
+  for (int f : faces) {
+    try {
+      const TopoDS_Face& face = all[static_cast<std::size_t>(f)];
+      picked.push_back({f, PatchGrid::from_face(face, f), std::nullopt});
+      picked.back().trim.emplace(face, picked.back().grid, f);  // reserve(): no reallocation
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+    // The ball is kept clear of every picked face, its own included where it
+    // curves tighter than the ball.
+    model.add(picked.back().grid);
+  }
+  model.build();
+  double max_dist = 0.0;
+  const double nf = double(faces.size());
+  for (std::size_t k = 0; k < picked.size(); ++k) {
+    const int f = picked[k].index;
+    FaceResult best;
+    try {
+      best = best_direction(picked[k], delta_work, params, model,
+                            ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+    result.curves.insert(result.curves.end(), best.coverage.curves.begin(), best.coverage.curves.end());
+    result.face_direction.push_back(best.dir);
+    result.metrics.sub_isocurves += best.stats.curves;
+    result.metrics.unreachable_length += best.stats.unreachable_length;
+    max_dist = std::max(max_dist, best.coverage.max_iso_distance);
+    result.path.append(best.path);
+  }
+  report_progress(progress, 1.0);
+  double top = -1e300;
+  for (std::size_t i = 0; i < result.path.size(); ++i)
+    if (result.path.kind[i] != static_cast<std::uint8_t>(MoveKind::Rapid)) top = std::max(top, result.path.z[i]);
+  if (params.safe_z < top)
+    throw InvalidArgument("safe_z (" + std::to_string(params.safe_z) +
+                          " mm) is below the highest cutting point of the path (" +
+                          std::to_string(top) + " mm)");
+  const PathLengths len = measure(result.path);
+  result.metrics.cutting_length = len.feed;
+  result.metrics.rapid_length = len.rapid;
+  result.metrics.plunge_length = len.plunge;
+  result.metrics.retracts = len.retracts;
+  result.metrics.max_iso_distance = max_dist;
+  result.metrics.guaranteed_scallop = scallop_for_stepover(params.ball_radius, max_dist);
+  return result;
+}
+
+}  // namespace isocam
