@@ -28,6 +28,32 @@ struct FaceCase {
 
 std::ostream& operator<<(std::ostream& os, const FaceCase& c) { return os << c.name; }
 
+// The path really drives the ball along the offset of every curve: each
+// sampled tip point of the offset curves lies within the chord tolerance of
+// a feed move, or else the ball could not be there: its centre is closer
+// than r - chord to the face (a point of the face that close is found),
+// which is where the core leaves material and reports it.
+void expect_path_follows_curves(const TopoDS_Face& face, int face_index, const IsoResult& res,
+                                double r, double chord, const test::FaceCloud& cloud) {
+  const test::SegmentIndex feeds = test::feed_segments(res.path, 1.0);
+  double unreachable = 0;
+  int off_path = 0;
+  for (const auto& curve : test::tip_curves(face, face_index, res, r, res.metrics.delta / 4)) {
+    for (const gp_Pnt& q : curve) {
+      if (feeds.distance(q, 1.0) <= chord + 1e-6) continue;
+      if (off_path++ % 4 == 0) {  // a sample of them
+        unreachable = std::max(unreachable, cloud.distance(gp_Pnt(q.X(), q.Y(), q.Z() + r)));
+      }
+    }
+  }
+  std::cout << "  points off the path: " << off_path << ", their largest clearance " << unreachable
+            << ", unreachable length " << res.metrics.unreachable_length << "\n";
+  if (off_path > 0) {
+    EXPECT_LT(unreachable, r - chord);
+    EXPECT_GT(res.metrics.unreachable_length, 0.0);
+  }
+}
+
 class AdaptiveOnFace : public ::testing::TestWithParam<FaceCase> {};
 
 TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
@@ -55,32 +81,8 @@ TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
             << res.metrics.sub_isocurves << " cutting length " << res.metrics.cutting_length << "\n";
   EXPECT_LT(gap, delta);
 
-  // The path really drives the ball along the offset of every curve: each
-  // sampled tip point of the offset curves lies within the chord tolerance of
-  // a feed move, or else the ball could not be there: its centre is closer
-  // than r - chord to the face (a point of the face that close is found),
-  // which is where the core leaves material and reports it.
   const test::FaceCloud cloud(face, 600);
-  const test::SegmentIndex feeds = test::feed_segments(res.path, 1.0);
-  double worst = 0, unreachable = 0;
-  int off_path = 0;
-  for (const auto& curve : test::tip_curves(face, c.face, res, c.r, delta / 4)) {
-    for (const gp_Pnt& q : curve) {
-      const double d = feeds.distance(q, 1.0);
-      if (d <= c.chord + 1e-6) continue;
-      if (off_path++ % 4 == 0) {  // a sample of them
-        const double clearance = cloud.distance(gp_Pnt(q.X(), q.Y(), q.Z() + c.r));
-        unreachable = std::max(unreachable, clearance);
-      }
-      worst = std::max(worst, d);
-    }
-  }
-  std::cout << "  points off the path: " << off_path << ", their largest clearance " << unreachable
-            << ", unreachable length " << res.metrics.unreachable_length << "\n";
-  if (off_path > 0) {
-    EXPECT_LT(unreachable, c.r - c.chord);
-    EXPECT_GT(res.metrics.unreachable_length, 0.0);
-  }
+  expect_path_follows_curves(face, c.face, res, c.r, c.chord, cloud);
 
   // No gouge: the ball centre stays at least r (less the chord tolerance,
   // the most a chord can cut into the offset, and the clearance check's
@@ -245,6 +247,7 @@ TEST_P(AdaptiveOnTrimmedFace, StaysInsideAndCoversTheTrimmedDomain) {
   std::cout << c.name << ": delta " << delta << " coverage gap " << gap << " sub-isocurves "
             << res.metrics.sub_isocurves << "\n";
   EXPECT_LT(gap, delta);
+  expect_path_follows_curves(face, c.face, res, c.r, p.chord_tolerance, test::FaceCloud(face, 400));
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <string>
+
+#include <gp_Pnt.hxx>
 #include <vector>
 
 #include "geometry/clearance.h"
@@ -35,16 +37,35 @@ struct FacePathStats {
   double unreachable_length = 0.0;  // ball-centre path left out: no clearance
 };
 
-// Orders the curves (cross-iso order, zig-zag), drives the ball centre on the
-// offset surface, linearises within the chord tolerance, cuts away the parts
+// A piece of path: ball centres along (part of) one sub-isocurve, every
+// chord clear of the model.
+struct CutPiece {
+  const PatchGrid* grid = nullptr;  // working grid: the curve is its iso-v line
+  double level = 0.0;
+  std::vector<gp_Pnt> pts;          // ball centres
+  std::vector<double> t;            // curve parameter of each
+  double length() const;
+  void reverse();
+};
+
+// The pieces of one face's curves: the ball centre driven on the offset
+// surface, linearised within the chord tolerance, with the parts cut away
 // where the ball would come closer than r to the model (exactly where they
-// start, to the clearance model's tolerance) and links adjacent curves by
-// feed moves on the offset surface where the link keeps the clearance,
-// others by a retract to safe_z. The path starts with a rapid to the safe
-// height above its first point and ends with a retract.
-Toolpath face_toolpath(const PatchGrid& grid, std::vector<SubIsocurve> curves,
-                       const IsoParams& params, const ClearanceModel& model,
-                       FacePathStats* stats);
+// start, to the clearance model's tolerance). Pieces come in cross-iso
+// order, zig-zag.
+std::vector<CutPiece> face_pieces(const PatchGrid& grid, std::vector<SubIsocurve> curves,
+                                  const IsoParams& params, const ClearanceModel& model,
+                                  FacePathStats* stats);
+
+// Orders and links pieces (of one face or many) into a path. Greedy: from
+// the end of a piece, the nearest piece end (either direction) that a feed
+// link reaches with the ball clear of the model -- along the offset surface
+// between pieces of one face, a straight move otherwise -- and not farther
+// than 4 r; where none is, a retract to safe_z, a rapid and a plunge to the
+// nearest piece. The path starts with a rapid to the safe height above its
+// first point and ends with a retract.
+Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
+                     const ClearanceModel& model);
 
 std::string face_label(int face);
 

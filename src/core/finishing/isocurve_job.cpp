@@ -4,6 +4,8 @@
 // and assembles the path and its certificate.
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -45,7 +47,9 @@ void validate(const IsoParams& p) {
 }
 
 struct FaceResult {
-  Toolpath path;
+  std::shared_ptr<const PatchGrid> grid;  // working grid the pieces refer to
+  std::vector<CutPiece> pieces;
+  double cut_length = 0.0;
   FaceCoverage coverage;
   IsoDirection dir = IsoDirection::V;
   FacePathStats stats;
@@ -70,33 +74,31 @@ std::vector<SubIsocurve> clip_to_face(const std::vector<SubIsocurve>& curves,
 FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, double delta,
                              const IsoParams& p, const ClearanceModel& model,
                              const ProgressSlice& progress) {
-  const PatchGrid g = dir == IsoDirection::U ? face.grid.transposed() : face.grid;
   FaceResult r;
+  r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
+                                                                     : face.grid);
   r.dir = dir;
   r.coverage = p.pattern == IsoPattern::Uniform
-                   ? uniform_coverage(g, face.index, dir, delta, p, progress)
-                   : adaptive_coverage(g, face.index, dir, delta, p, progress);
+                   ? uniform_coverage(*r.grid, face.index, dir, delta, p, progress)
+                   : adaptive_coverage(*r.grid, face.index, dir, delta, p, progress);
   r.coverage.curves = clip_to_face(r.coverage.curves, *face.trim);
-  r.path = face_toolpath(g, r.coverage.curves, p, model, &r.stats);
+  r.pieces = face_pieces(*r.grid, r.coverage.curves, p, model, &r.stats);
+  for (const CutPiece& c : r.pieces) r.cut_length += c.length();
   return r;
 }
 
-// The faster of the requested directions (Auto: both) on one face.
+// The requested direction, or for Auto the one with the shorter cutting
+// length (the pieces; the links come later, across faces).
 FaceResult best_direction(const PickedFace& face, double delta, const IsoParams& params,
                           const ClearanceModel& model, const ProgressSlice& progress) {
   std::vector<IsoDirection> dirs{params.direction};
   if (params.direction == IsoDirection::Auto) dirs = {IsoDirection::V, IsoDirection::U};
   FaceResult best;
-  double best_len = 0;
   const double n = double(dirs.size());
   for (std::size_t di = 0; di < dirs.size(); ++di) {
     FaceResult r = face_in_direction(face, dirs[di], delta, params, model,
                                      progress.sub(double(di) / n, double(di + 1) / n));
-    const double len = measure(r.path).feed;
-    if (di == 0 || len < best_len) {
-      best = std::move(r);
-      best_len = len;
-    }
+    if (di == 0 || r.cut_length < best.cut_length) best = std::move(r);
   }
   return best;
 }
@@ -146,6 +148,8 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   model.build();
   double max_dist = 0.0;
   const double nf = double(faces.size());
+  std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
+  std::vector<CutPiece> pieces;
   for (std::size_t k = 0; k < picked.size(); ++k) {
     const int f = picked[k].index;
     FaceResult best;
@@ -160,8 +164,10 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     result.metrics.sub_isocurves += best.stats.curves;
     result.metrics.unreachable_length += best.stats.unreachable_length;
     max_dist = std::max(max_dist, best.coverage.max_iso_distance);
-    result.path.append(best.path);
+    working.push_back(best.grid);
+    std::move(best.pieces.begin(), best.pieces.end(), std::back_inserter(pieces));
   }
+  result.path = link_pieces(std::move(pieces), params, model);
   report_progress(progress, 1.0);
   double top = -1e300;
   for (std::size_t i = 0; i < result.path.size(); ++i)

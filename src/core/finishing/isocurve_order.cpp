@@ -169,84 +169,50 @@ class RunSplitter {
   std::vector<CentrePolyline> runs_;
 };
 
-struct Piece {
-  SubIsocurve c;  // t0 < t1 always; `forward` says which end is the start
-  bool forward = true;
-  CentrePolyline line;
-  double start() const { return line.t.front(); }
-  double end() const { return line.t.back(); }
-};
-
-bool overlap(const SubIsocurve& a, const SubIsocurve& b) {
-  return std::min(a.t1, b.t1) > std::max(a.t0, b.t0);
-}
-
 }  // namespace
 
-Toolpath face_toolpath(const PatchGrid& g, std::vector<SubIsocurve> curves,
-                       const IsoParams& params, const ClearanceModel& model,
-                       FacePathStats* stats) {
-  // Cross-iso order (Definition 3 adjacency follows from it: consecutive
-  // curves whose domains overlap have nothing between them).
+double CutPiece::length() const {
+  double s = 0;
+  for (std::size_t i = 1; i < pts.size(); ++i) s += pts[i - 1].Distance(pts[i]);
+  return s;
+}
+
+void CutPiece::reverse() {
+  std::reverse(pts.begin(), pts.end());
+  std::reverse(t.begin(), t.end());
+}
+
+std::vector<CutPiece> face_pieces(const PatchGrid& g, std::vector<SubIsocurve> curves,
+                                  const IsoParams& params, const ClearanceModel& model,
+                                  FacePathStats* stats) {
   std::sort(curves.begin(), curves.end(), [](const SubIsocurve& a, const SubIsocurve& b) {
     return a.level < b.level || (a.level == b.level && a.t0 < b.t0);
   });
-  const double r = params.ball_radius, tol = params.chord_tolerance, safe = params.safe_z;
+  const double r = params.ball_radius, tol = params.chord_tolerance;
   // A chord of the offset may cut into it by the chord tolerance; the
   // clearance check is exact to its own tolerance.
   const double clearance = r - tol - model.tolerance();
   FacePathStats st;
-  std::vector<Piece> pieces;
+  std::vector<CutPiece> pieces;
+  bool forward = true;
   for (const SubIsocurve& c : curves) {
-    const bool forward = pieces.size() % 2 == 0;  // zig-zag
     const CentrePolyline line = centres_along(g, c, forward, r, tol);
     // A boundary collapsed to a pole offsets to a single point: nothing to cut.
     const double full = line.length();
     if (full <= 1e-6) continue;
+    forward = !forward;  // zig-zag
     ++st.curves;
     double kept = 0;
     RunSplitter splitter([&](double t) { return centre_at(g, g.span_of_u(t), t, c.level, r); },
                          model, clearance, tol);
     for (CentrePolyline& run : splitter.split(line)) {
       kept += run.length();
-      pieces.push_back({c, forward, std::move(run)});
+      pieces.push_back({&g, c.level, std::move(run.pts), std::move(run.t)});
     }
     st.unreachable_length += full - kept;
   }
-
-  Toolpath path;
-  auto tip = [&](MoveKind k, const gp_Pnt& p) { path.add(k, p.X(), p.Y(), p.Z() - r); };
-  for (std::size_t i = 0; i < pieces.size(); ++i) {
-    const Piece& p = pieces[i];
-    std::vector<gp_Pnt> link;
-    if (i > 0 && overlap(pieces[i - 1].c, p.c)) {
-      // Feed link on the offset surface along the straight parameter
-      // segment, kept only if the whole link keeps the clearance.
-      const Piece& q = pieces[i - 1];
-      const double t0 = q.end(), v0 = q.c.level, t1 = p.start(), v1 = p.c.level;
-      link = linearize(
-          [&](double s) {
-            const double t = t0 + (t1 - t0) * s;
-            return centre_at(g, g.span_of_u(t), t, v0 + (v1 - v0) * s, r);
-          },
-          0.0, 1.0, tol, {}, 2);
-      link.front() = q.line.pts.back();
-      link.back() = p.line.pts.front();
-      for (std::size_t k = 1; k < link.size() && !link.empty(); ++k)
-        if (!model.clear(link[k - 1], link[k], clearance)) link.clear();
-    }
-    if (!link.empty()) {
-      for (std::size_t k = 1; k < link.size(); ++k) tip(MoveKind::Feed, link[k]);
-    } else {
-      if (i > 0) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
-      path.add(MoveKind::Rapid, p.line.pts.front().X(), p.line.pts.front().Y(), safe);
-      tip(MoveKind::Plunge, p.line.pts.front());
-    }
-    for (std::size_t k = 1; k < p.line.pts.size(); ++k) tip(MoveKind::Feed, p.line.pts[k]);
-  }
-  if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
   if (stats) *stats = st;
-  return path;
+  return pieces;
 }
 
 }  // namespace isocam
