@@ -17,6 +17,8 @@
 namespace py = pybind11;
 using namespace isocam;
 
+void bind_pocketing(py::module_& m);  // bind_pocketing.cpp
+
 namespace {
 
 const char* direction_name(IsoDirection d) {
@@ -29,6 +31,7 @@ struct PyIsoResult {
   IsoMetrics metrics;
   std::vector<std::string> face_direction;
   std::vector<SubIsocurve> curves;
+  std::vector<std::string> warnings;
 };
 
 PyIsoResult to_python(IsoResult&& r) {
@@ -47,6 +50,7 @@ PyIsoResult to_python(IsoResult&& r) {
   out.metrics = r.metrics;
   for (IsoDirection d : r.face_direction) out.face_direction.emplace_back(direction_name(d));
   out.curves = std::move(r.curves);
+  out.warnings = std::move(r.warnings);
   return out;
 }
 
@@ -101,6 +105,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readwrite("safe_z", &IsoParams::safe_z)
       .def_readwrite("max_depth", &IsoParams::max_depth)
       .def_readwrite("gouge_tolerance", &IsoParams::gouge_tolerance)
+      .def_readwrite("protect_unpicked_faces", &IsoParams::protect_unpicked_faces)
       .def_readwrite("min_param_gap", &IsoParams::min_param_gap);
 
   py::class_<Progress, std::shared_ptr<Progress>>(
@@ -133,7 +138,8 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("xyz", &PyIsoResult::xyz, "float64 (N,3): move end points, tool tip, mm")
       .def_readonly("metrics", &PyIsoResult::metrics)
       .def_readonly("face_direction", &PyIsoResult::face_direction)
-      .def_readonly("curves", &PyIsoResult::curves);
+      .def_readonly("curves", &PyIsoResult::curves)
+      .def_readonly("warnings", &PyIsoResult::warnings);
 
   m.attr("RAPID") = 0;
   m.attr("FEED") = 1;
@@ -152,4 +158,5 @@ PYBIND11_MODULE(isocam_core, m) {
       "Adaptive isocurve finishing of the faces (0-based FaceN-1 indices) of the B-rep text.\n"
       "Raises ValueError for bad arguments, RuntimeError for geometry failures,\n"
       "CancelledError when progress.cancel() was called.");
+  bind_pocketing(m);
 }

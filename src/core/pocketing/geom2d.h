@@ -102,6 +102,21 @@ class VertexSet {
   std::unordered_map<std::int64_t, std::vector<int>> grid_;
 };
 
+// Nearest segment queries on a uniform grid of segment bounding boxes.
+class SegGrid {
+ public:
+  SegGrid(const std::vector<Seg>& segs, double cell);
+  // Distance from p to the nearest segment (1e300 if there is none).
+  double distance(P2 p) const;
+  const std::vector<Seg>& segs() const { return segs_; }
+
+ private:
+  std::vector<Seg> segs_;
+  double x0_ = 0, y0_ = 0, cell_ = 1;
+  long nx_ = 0, ny_ = 0;
+  std::vector<std::vector<int>> cells_;
+};
+
 // Intersections of two segments. Each hit gives the parameters on both and
 // the point. Overlapping collinear lines or co-circular arcs give the ends
 // of the overlap. Hits within `eps` (a length) of an end are clamped to it.
@@ -110,6 +125,9 @@ struct Hit {
   P2 p;
 };
 void intersect_segs(const Seg& s1, const Seg& s2, double eps, std::vector<Hit>& out);
+
+// The raw offset curve of one closed loop by d to the left (offset2d.cpp).
+Loop raw_offset(const Loop& loop, double d, double snap);
 
 // Winding numbers of a fixed set of segments (closed loops) by counting
 // signed crossings of the ray from p towards +x with y-monotone pieces.
@@ -120,11 +138,11 @@ class WindingIndex {
 
  private:
   struct Piece {
-    double y0, y1;        // y0 < y1
+    double y0, y1;          // y0 < y1
     double xa, ya, xb, yb;  // line: end points; arc: unused except ya/yb
-    double cx, cy, r;     // arc
-    bool arc, right;      // arc on the half x >= cx
-    int dir;              // +1 going up, -1 going down
+    double cx, cy, r;       // arc
+    bool arc, right;        // arc on the half x >= cx
+    int dir;                // +1 going up, -1 going down
   };
   double x_at(const Piece& pc, double y) const;
   std::vector<Piece> pieces_;

@@ -38,9 +38,7 @@ Seg Seg::arc_between(P2 centre, P2 from, P2 to, bool ccw) {
   return s;
 }
 
-double Seg::length() const {
-  return kind == SegKind::Line ? dist(a, b) : r * std::abs(sweep);
-}
+double Seg::length() const { return kind == SegKind::Line ? dist(a, b) : r * std::abs(sweep); }
 
 P2 Seg::at(double t) const {
   if (t <= 0.0) return a;
@@ -193,6 +191,53 @@ P2 point_near_end(const Seg& s, double h) {
   const double len = s.length();
   if (len <= 0) return s.b;
   return s.at(1.0 - std::min(0.5, h / len));
+}
+
+SegGrid::SegGrid(const std::vector<Seg>& segs, double cell) : segs_(segs) {
+  Box2 b;
+  for (const Seg& s : segs_) b.add(seg_box(s));
+  if (b.empty()) return;
+  cell_ = std::max(cell, 1e-3 * b.size());
+  x0_ = b.x0;
+  y0_ = b.y0;
+  nx_ = static_cast<long>((b.x1 - b.x0) / cell_) + 1;
+  ny_ = static_cast<long>((b.y1 - b.y0) / cell_) + 1;
+  cells_.assign(static_cast<std::size_t>(nx_ * ny_), {});
+  for (std::size_t k = 0; k < segs_.size(); ++k) {
+    const Box2 sb = seg_box(segs_[k]);
+    for (long j = static_cast<long>((sb.y0 - y0_) / cell_);
+         j <= static_cast<long>((sb.y1 - y0_) / cell_); ++j)
+      for (long i = static_cast<long>((sb.x0 - x0_) / cell_);
+           i <= static_cast<long>((sb.x1 - x0_) / cell_); ++i)
+        cells_[static_cast<std::size_t>(std::min(j, ny_ - 1) * nx_ + std::min(i, nx_ - 1))]
+            .push_back(static_cast<int>(k));
+  }
+}
+
+double SegGrid::distance(P2 p) const {
+  if (cells_.empty()) return 1e300;
+  const long ci = std::clamp(static_cast<long>(std::floor((p.x - x0_) / cell_)), 0L, nx_ - 1);
+  const long cj = std::clamp(static_cast<long>(std::floor((p.y - y0_) / cell_)), 0L, ny_ - 1);
+  // Distance from p to the nearest point of the grid's rectangle.
+  const double ox = std::max({0.0, x0_ - p.x, p.x - (x0_ + static_cast<double>(nx_) * cell_)});
+  const double oy = std::max({0.0, y0_ - p.y, p.y - (y0_ + static_cast<double>(ny_) * cell_)});
+  const double outside = std::hypot(ox, oy);
+  double best = 1e300;
+  const long kmax = std::max(nx_, ny_);
+  for (long k = 0; k <= kmax; ++k) {
+    // Cells of ring k are at least (k - 1) cells away from p.
+    if (best < outside + static_cast<double>(k - 1) * cell_) break;
+    for (long j = cj - k; j <= cj + k; ++j) {
+      if (j < 0 || j >= ny_) continue;
+      const bool edge_row = j == cj - k || j == cj + k;
+      for (long i = ci - k; i <= ci + k; i += (edge_row ? 1 : 2 * std::max(k, 1L))) {
+        if (i < 0 || i >= nx_) continue;
+        for (int s : cells_[static_cast<std::size_t>(j * nx_ + i)])
+          best = std::min(best, nearest_on_seg(segs_[static_cast<std::size_t>(s)], p).d);
+      }
+    }
+  }
+  return best;
 }
 
 int VertexSet::insert(P2 p) {

@@ -10,15 +10,18 @@
 // rule with the other sign.)
 //
 // Offsets are exact for lines and arcs: the offset of an arc is an arc with
-// the same centre. Loops are offset one by one into "raw" offset curves
-// (the generalized offset: every segment moved by d along its left normal,
-// and an arc of radius d about every corner sweeping the corner's turning
-// angle, Suh & Lee's Figure 2.7(c)); the raw curves of all loops are then
-// resolved together by the positive-winding rule. That one step removes the
-// self-loops of a profile (section 2.2, Figure 2.8, including the nested
-// case of Figure 2.10), joins a shrunk boundary and a grown island into
-// "lakes" (Figure 2.3(c)-(d)), merges grown islands (Figure 2.3(e)-(f)) and
-// splits a region at a neck; a profile that vanishes simply yields no loop.
+// the same centre. Each loop becomes a "raw" offset curve (offset2d.cpp:
+// every piece moved by d along its left normal, an arc of radius d about
+// every corner turning right -- Suh & Lee's Figure 2.7(c) -- and a path
+// through the corner where it turns left), and the raw curves of all loops
+// are resolved together by the positive-winding rule (boolean2d.cpp). That
+// one step removes the self-loops of a profile (section 2.2, Figure 2.8,
+// including the nested case of Figure 2.10), joins a shrunk boundary and a
+// grown island into "lakes" (Figure 2.3(c)-(d)), merges grown islands
+// (Figure 2.3(e)-(f)) and splits a region at a neck; a profile that
+// vanishes simply yields no loop. The result is exactly the set of points
+// of the region farther than d from its boundary (up to the snapping
+// distance, 1e-7 of the model size).
 #pragma once
 
 #include <cstdint>
@@ -52,8 +55,8 @@ struct Seg {
   static Seg arc_between(P2 centre, P2 from, P2 to, bool ccw);
 
   double length() const;
-  P2 at(double t) const;        // t in [0, 1]
-  P2 tangent(double t) const;   // unit tangent along the direction of travel
+  P2 at(double t) const;       // t in [0, 1]
+  P2 tangent(double t) const;  // unit tangent along the direction of travel
   Seg reversed() const;
   Seg sub(double t0, double t1) const;  // the part between two parameters
 };

@@ -1,0 +1,288 @@
+"""Shared glue of the pocketing operations (Spiral Pocket, Z-level Roughing).
+
+Maps FreeCAD's depth properties to the core's z levels, runs a core call in a
+worker thread (the core releases the GIL), and turns the core's flat move
+arrays -- with G2/G3 arcs -- into ``Path.Command``s. No geometry here.
+"""
+
+import math
+import threading
+
+import FreeCAD
+import Path
+
+from freecad_ext import compat
+
+# Move kinds of the core's pocketing arrays (src/core isocam/pocketing.h).
+MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW = 0, 1, 2, 3, 4
+
+DIRECTIONS = ("Climb", "Conventional")
+
+
+class IsoCAMError(Exception):
+    """An input the operation cannot be computed with; the message names it."""
+
+
+def depth_levels(obj):
+    """The z levels of the op, top to bottom, from FreeCAD's StartDepth,
+    FinalDepth and StepDown (PathUtils.depth_params, as FreeCAD's own ops)."""
+    step = obj.StepDown.Value
+    if step <= 0:
+        raise IsoCAMError("property StepDown must be > 0 (it is %g mm)" % step)
+    start, final = obj.StartDepth.Value, obj.FinalDepth.Value
+    if final > start:
+        raise IsoCAMError(
+            "property FinalDepth (%g mm) is above StartDepth (%g mm)" % (final, start)
+        )
+    params = compat.PathUtils.depth_params(
+        clearance_height=obj.ClearanceHeight.Value,
+        safe_height=obj.SafeHeight.Value,
+        start_depth=start,
+        step_down=step,
+        z_finish_step=0.0,
+        final_depth=final,
+        user_depths=None,
+    )
+    levels = [float(z) for z in params]
+    if not levels:
+        levels = [final]
+    return levels
+
+
+def pocket_params(obj, core, radius, tolerance, scallop=None):
+    """PocketParams from the op's properties; the core checks the ranges."""
+    params = core.PocketParams()
+    params.tool_radius = radius
+    params.stepover = 2.0 * radius * obj.StepOver / 100.0
+    params.tolerance = tolerance
+    params.floor_tolerance = tolerance
+    if scallop is not None:
+        params.scallop_height = scallop
+    params.direction = getattr(core.CutDirection, obj.Direction)
+    params.safe_z = obj.SafeHeight.Value
+    return params
+
+
+def run_core(proxy, core, call, name):
+    """Run ``call(progress)`` in a worker thread and wait for it.
+
+    The Progress object is kept in ``proxy.active_progress`` while the core
+    runs, so a task panel can poll its fraction or cancel() it.
+    """
+    progress = core.Progress()
+    outcome = {}
+
+    def work():
+        try:
+            outcome["result"] = call(progress)
+        except BaseException as exc:  # handed to the calling thread
+            outcome["error"] = exc
+
+    worker = threading.Thread(target=work, name="isocam-" + name)
+    proxy.active_progress = progress
+    try:
+        worker.start()
+        _wait(worker, progress, name)
+    finally:
+        proxy.active_progress = None
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["result"]
+
+
+def _wait(worker, progress, name):
+    """Block until the worker ends; in the GUI keep the window painted."""
+    if not FreeCAD.GuiUp:
+        worker.join()
+        return
+    from PySide import QtCore, QtGui  # GUI only
+
+    import FreeCADGui
+
+    bar = FreeCADGui.getMainWindow().statusBar()
+    while worker.is_alive():
+        worker.join(0.1)
+        bar.showMessage("%s: %d %%" % (name, int(100 * progress.fraction)))
+        QtGui.QApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents)
+    bar.clearMessage()
+
+
+def commands_from_moves(kind, xyz, centre, horiz_feed, vert_feed):
+    """Path.Commands for the core's arrays: kind (N,), xyz (N,3), centre (N,2).
+
+    Rapid -> G0; feed -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`;
+    arcs -> G2 (clockwise) / G3 with I, J relative to the arc's start, as
+    FreeCAD's Path and the post-processors expect.
+    """
+    commands = []
+    px = py = None
+    for k, (x, y, z), (cx, cy) in zip(kind.tolist(), xyz.tolist(), centre.tolist()):
+        if k == MOVE_RAPID:
+            commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
+        elif k == MOVE_FEED:
+            commands.append(
+                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
+            )
+        elif k == MOVE_PLUNGE:
+            commands.append(
+                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": vert_feed})
+            )
+        elif k in (MOVE_ARC_CW, MOVE_ARC_CCW):
+            if px is None or math.isnan(cx):
+                raise IsoCAMError("the core returned an arc without a start or centre")
+            commands.append(
+                Path.Command(
+                    "G2" if k == MOVE_ARC_CW else "G3",
+                    {
+                        "X": x,
+                        "Y": y,
+                        "Z": z,
+                        "I": cx - px,
+                        "J": cy - py,
+                        "F": horiz_feed,
+                    },
+                )
+            )
+        else:
+            raise IsoCAMError("the core returned an unknown move kind %d" % k)
+        px, py = x, y
+    return commands
+
+
+def picked_faces(obj):
+    """[(model object, [0-based face indices])] from obj.Base, in pick order."""
+    picked = []
+    for base, subs in obj.Base or []:
+        indices = []
+        for sub in subs:
+            if not sub.startswith("Face") or not sub[4:].isdigit():
+                raise IsoCAMError(
+                    "Base %s.%s is not a face; pick floor faces of the Job's model"
+                    % (base.Label, sub)
+                )
+            index = int(sub[4:]) - 1
+            if index not in indices:
+                indices.append(index)
+        if indices:
+            picked.append((base, indices))
+    return picked
+
+
+def add_properties(obj, inputs, outputs, output_group, set_defaults):
+    """Add the op's own properties that `obj` does not have yet.
+
+    inputs: (type, name, group, tip, default[, enumeration]);
+    outputs: (type, name, metrics attribute, tip), read-only outputs.
+    """
+    for row in inputs:
+        prop_type, name, group, tip, default = row[:5]
+        if not hasattr(obj, name):
+            obj.addProperty(prop_type, name, group, tip)
+            if len(row) > 5:
+                setattr(obj, name, list(row[5]))
+            if set_defaults:
+                setattr(obj, name, default)
+    for prop_type, name, _attr, tip in outputs:
+        if not hasattr(obj, name):
+            obj.addProperty(prop_type, name, output_group, tip)
+        obj.setEditorMode(name, 1)  # read-only in the property editor
+        if hasattr(obj, "setPropertyStatus"):  # not on a SetupSheet prototype
+            obj.setPropertyStatus(name, ["ReadOnly", "Output"])
+
+
+def write_outputs(obj, outputs, metrics):
+    for _type, name, attr, _tip in outputs:
+        setattr(obj, name, getattr(metrics, attr))
+
+
+def clear_outputs(obj, outputs):
+    for prop_type, name, _attr, _tip in outputs:
+        if hasattr(obj, name):
+            setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
+
+
+# Metrics every pocketing op reports (type, property, metrics attribute, tip).
+OUTPUTS = (
+    (
+        "App::PropertyLength",
+        "CuttingLength",
+        "cutting_length",
+        "Length of the cutting moves (G1, G2, G3)",
+    ),
+    ("App::PropertyLength", "RapidLength", "rapid_length", "Length of the rapid moves"),
+    (
+        "App::PropertyInteger",
+        "Retracts",
+        "retracts",
+        "Number of retracts to SafeHeight",
+    ),
+    (
+        "App::PropertyInteger",
+        "FeedLinks",
+        "feed_links",
+        "Loop-to-loop links cut without a retract",
+    ),
+    (
+        "App::PropertyInteger",
+        "Loops",
+        "loops",
+        "Number of offset profiles cut (all levels)",
+    ),
+    ("App::PropertyInteger", "Levels", "levels", "Number of z levels"),
+    (
+        "App::PropertyInteger",
+        "CLPoints",
+        "cl_points",
+        "Number of cutting moves (CL points)",
+    ),
+    ("App::PropertyInteger", "Arcs", "arcs", "Number of G2/G3 arcs"),
+    (
+        "App::PropertyLength",
+        "MinInterval",
+        "min_interval",
+        "Smallest path interval used",
+    ),
+    (
+        "App::PropertyLength",
+        "MaxInterval",
+        "max_interval",
+        "Largest path interval used",
+    ),
+)
+OUTPUT_GROUP = "Result"
+
+
+def arrays_from_path(path, start=(0.0, 0.0, 0.0)):
+    """The moves of a ``Path.Path`` (G0/G1/G2/G3 in the XY plane) as the
+    core's flat arrays (kind, xyz, centre), e.g. to check FreeCAD's own
+    operations with ``isocam_core.pocket_coverage``. A G1 that only goes
+    down counts as a plunge; modal coordinates are filled in.
+    """
+    import numpy as np
+
+    x, y, z = start
+    kinds, pts, centres = [], [], []
+    nan = float("nan")
+    for c in path.Commands:
+        name = c.Name
+        if name not in ("G0", "G00", "G1", "G01", "G2", "G02", "G3", "G03"):
+            continue
+        p = c.Parameters
+        nx, ny, nz = p.get("X", x), p.get("Y", y), p.get("Z", z)
+        cx = cy = nan
+        if name in ("G0", "G00"):
+            k = MOVE_RAPID
+        elif name in ("G1", "G01"):
+            k = MOVE_PLUNGE if (nx, ny) == (x, y) and nz < z else MOVE_FEED
+        else:
+            k = MOVE_ARC_CW if name in ("G2", "G02") else MOVE_ARC_CCW
+            cx, cy = x + p.get("I", 0.0), y + p.get("J", 0.0)
+        kinds.append(k)
+        pts.append((nx, ny, nz))
+        centres.append((cx, cy))
+        x, y, z = nx, ny, nz
+    return (
+        np.array(kinds, dtype=np.uint8),
+        np.array(pts, dtype=float).reshape(-1, 3),
+        np.array(centres, dtype=float).reshape(-1, 2),
+    )

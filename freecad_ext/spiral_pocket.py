@@ -1,0 +1,289 @@
+"""Island-aware spiral pocketing (Suh & Lee) as a FreeCAD Path operation.
+
+Thin operation (ENGINEERING.md, habit 6): ``opExecute`` maps FreeCAD's depth
+properties (StartDepth, FinalDepth, StepDown) to z levels, the op's own
+properties and its tool controller to ``isocam_core.PocketParams``, runs
+``isocam_core.pocket_faces`` on the picked floor faces in a worker thread and
+turns the returned flat move arrays (with G2/G3 arcs) into ``Path.Command``s.
+
+Base = the pocket floor face(s). Islands come from the floors' inner wires
+and from the model's material standing above each level inside the
+outline (as FreeCAD's Pocket Shape does). A planar floor is cleared at every
+level down to FinalDepth; a sculptured floor needs a ball-end tool, whose
+tip then follows the floor with the ScallopHeight between passes.
+
+Errors (habit 4): a bad input -- no face picked, a parameter out of range
+(the core's ``ValueError``), a cancel -- is logged with a message naming the
+property or face; the op's Path is emptied, its results cleared, and
+:class:`IsoCAMError` is raised out of ``execute`` (FreeCAD marks this op
+invalid). Faces the core could not pocket are reported as warnings and the
+rest of the work goes on.
+"""
+
+import time
+
+import FreeCAD
+import Path
+
+from freecad_ext import compat, pocket_glue
+from freecad_ext.compat import PathLog, PathOp
+from freecad_ext.pocket_glue import IsoCAMError
+
+__title__ = "IsoCAM Spiral Pocket operation"
+
+OP_NAME = "SpiralPocket"
+DIRECTIONS = pocket_glue.DIRECTIONS
+
+# (type, name, group, tooltip, default[, enumeration]) of the user's parameters.
+_INPUTS = (
+    (
+        "App::PropertyPercent",
+        "StepOver",
+        "Spiral Pocket",
+        "Path interval on a flat floor, in percent of the tool diameter. Where "
+        "a larger interval would leave material (sharp corners, narrow "
+        "fingers), the core reduces it.",
+        50,
+    ),
+    (
+        "App::PropertyLength",
+        "ScallopHeight",
+        "Spiral Pocket",
+        "Sculptured floor (ball-end tool): largest scallop left between passes; "
+        "sets the path interval from the floor's curvature.",
+        0.05,
+    ),
+    (
+        "App::PropertyLength",
+        "Tolerance",
+        "Spiral Pocket",
+        "Free curves (ellipses, B-splines) to arcs, and the plan-view and floor "
+        "deviation of the sculptured floor's points.",
+        0.01,
+    ),
+    (
+        "App::PropertyEnumeration",
+        "Direction",
+        "Spiral Pocket",
+        "Climb: the wall on the right of the cut (spindle M3); Conventional: the reverse.",
+        "Climb",
+        DIRECTIONS,
+    ),
+)
+_OUTPUTS = pocket_glue.OUTPUTS
+
+
+class ObjectSpiralPocket(PathOp.ObjectOp):
+    """Proxy of a Spiral Pocket operation (module-level so documents reopen)."""
+
+    def __init__(self, obj, name, parentJob=None, toolController=None):
+        self._requested_tc = toolController
+        self.active_progress = None
+        super().__init__(obj, name, parentJob)
+        self._requested_tc = None
+
+    # -- PathOp hooks -------------------------------------------------------
+
+    def opFeatures(self, obj):
+        return (
+            PathOp.FeatureTool
+            | PathOp.FeatureDepths
+            | PathOp.FeatureHeights
+            | PathOp.FeatureStepDown
+            | PathOp.FeatureBaseFaces
+            | PathOp.FeatureCoolant
+        )
+
+    def initOperation(self, obj):
+        pocket_glue.add_properties(
+            obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
+        )
+
+    def opOnDocumentRestored(self, obj):
+        pocket_glue.add_properties(
+            obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
+        )
+
+    def isToolSupported(self, obj, tool):
+        requested = getattr(self, "_requested_tc", None)
+        if requested is not None:
+            return tool == requested.Tool
+        return True
+
+    def opSetDefaultValues(self, obj, job):
+        requested = getattr(self, "_requested_tc", None)
+        if requested is not None:
+            obj.ToolController = requested
+            obj.OpToolDiameter = requested.Tool.Diameter
+
+    def opExecute(self, obj):
+        started = time.monotonic()
+        try:
+            core = compat.import_core()
+        except ImportError as exc:
+            self._fail(obj, str(exc))
+        try:
+            results = self._compute(obj, core)
+        except (IsoCAMError, ValueError, RuntimeError, core.CancelledError) as exc:
+            self._fail(obj, _describe(exc))
+        except Exception:
+            pocket_glue.clear_outputs(obj, _OUTPUTS)
+            obj.Path = Path.Path()
+            raise
+        self._emit_commands(obj, results)
+        metrics = _combined(results)
+        pocket_glue.write_outputs(obj, _OUTPUTS, metrics)
+        _print_summary(obj, metrics, time.monotonic() - started)
+
+    # -- steps of opExecute -------------------------------------------------
+
+    def _compute(self, obj, core):
+        picked = pocket_glue.picked_faces(obj)
+        if not picked:
+            raise IsoCAMError(
+                "no faces picked: set Base to the pocket floor face(s) of the Job's model"
+            )
+        levels = pocket_glue.depth_levels(obj)
+        tool = obj.ToolController.Tool
+        ball_end = compat.is_ball_end(tool)
+        params = pocket_glue.pocket_params(
+            obj, core, self.radius, obj.Tolerance.Value, obj.ScallopHeight.Value
+        )
+        results = []
+        for base, faces in picked:
+            brep = base.Shape.exportBrepToString()
+
+            def call(progress, brep=brep, faces=faces):
+                return core.pocket_faces(
+                    brep, faces, params, levels, ball_end, progress
+                )
+
+            res = pocket_glue.run_core(self, core, call, "spiral-pocket")
+            for message in res.metrics.messages:
+                PathLog.warning("%s: %s: %s" % (obj.Label, base.Label, message))
+            if len(res.kind) > 0:
+                results.append(res)
+        if not results:
+            raise IsoCAMError(
+                "nothing to cut: the picked faces are too small for the tool "
+                "or cannot be pocketed (see the warnings)"
+            )
+        return results
+
+    def _emit_commands(self, obj, results):
+        clearance = obj.ClearanceHeight.Value
+        x0, y0 = (float(v) for v in results[0].xyz[0][:2])
+        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
+        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
+        for res in results:
+            self.commandlist.extend(
+                pocket_glue.commands_from_moves(
+                    res.kind, res.xyz, res.centre, self.horizFeed, self.vertFeed
+                )
+            )
+
+    def _fail(self, obj, message):
+        message = "%s: %s" % (obj.Label, message)
+        PathLog.error(message)
+        pocket_glue.clear_outputs(obj, _OUTPUTS)
+        obj.Path = Path.Path()
+        raise IsoCAMError(message) from None
+
+
+# Core argument names -> what the FreeCAD user sets.
+_ARGUMENT_SOURCES = (
+    ("stepover", "property StepOver"),
+    ("tolerance", "property Tolerance"),
+    ("scallop_height", "property ScallopHeight"),
+    ("safe_z", "property SafeHeight"),
+    ("depths", "properties StartDepth / FinalDepth / StepDown"),
+    ("tool_radius", "the tool controller's tool diameter / 2"),
+)
+
+
+def _describe(exc):
+    message = str(exc) or type(exc).__name__
+    sources = [src for arg, src in _ARGUMENT_SOURCES if arg in message]
+    if sources:
+        message += " [set by %s]" % ", ".join(sources)
+    return message
+
+
+class _Combined:
+    """Metrics of several core runs (one per model object) added up."""
+
+    def __init__(self, results):
+        def total(attr):
+            return sum(getattr(r.metrics, attr) for r in results)
+
+        for attr in (
+            "cutting_length",
+            "rapid_length",
+            "retracts",
+            "feed_links",
+            "loops",
+            "levels",
+            "cl_points",
+            "arcs",
+        ):
+            setattr(self, attr, total(attr))
+        self.min_interval = min(r.metrics.min_interval for r in results)
+        self.max_interval = max(r.metrics.max_interval for r in results)
+
+
+def _combined(results):
+    return _Combined(results)
+
+
+def _print_summary(obj, m, seconds):
+    FreeCAD.Console.PrintMessage(
+        "IsoCAM %s: %d loops on %d levels, %d CL points (%d G2/G3), cutting %.1f mm, "
+        "rapid %.1f mm, %d retracts, %d feed links, interval %.3f-%.3f mm; %.2f s\n"
+        % (
+            obj.Label,
+            m.loops,
+            m.levels,
+            m.cl_points,
+            m.arcs,
+            m.cutting_length,
+            m.rapid_length,
+            m.retracts,
+            m.feed_links,
+            m.min_interval,
+            m.max_interval,
+            seconds,
+        )
+    )
+
+
+def SetupProperties():
+    """Properties for which a Job's SetupSheet may hold defaults."""
+    return ["StepOver", "ScallopHeight", "Tolerance", "Direction"]
+
+
+def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
+    """Create a Spiral Pocket op and add it to `parentJob` (or the only Job).
+
+    `toolController`: use this one instead of letting FreeCAD choose
+    (headless FreeCAD cannot choose among several).
+    """
+    created = obj is None
+    if created:
+        doc = parentJob.Document if parentJob is not None else FreeCAD.ActiveDocument
+        obj = doc.addObject("Path::FeaturePython", name)
+    try:
+        if parentJob is None:
+            obj.Proxy = ObjectSpiralPocket(obj, name, None, toolController)
+        else:
+            with compat.active_document(parentJob.Document):
+                obj.Proxy = ObjectSpiralPocket(obj, name, parentJob, toolController)
+    except compat.PathUtils.PathNoTCExistsException:
+        if created:
+            obj.Document.removeObject(obj.Name)
+        raise IsoCAMError(
+            "%s: the Job has no tool controller; add one or pass toolController=" % name
+        ) from None
+    return obj
+
+
+compat.PathSetupSheet.RegisterOperation(OP_NAME, Create, SetupProperties)

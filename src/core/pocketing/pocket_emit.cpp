@@ -1,0 +1,219 @@
+// Flat-floor spiral pocketing: parameters, the plan (offset tree + cutting
+// order), and the moves with G2/G3 arcs.
+#include "pocketing/pocket_emit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "isocam/errors.h"
+
+namespace isocam {
+
+using namespace pocket;
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}
+
+void PocketPath::add(PocketMove k, double px, double py, double pz) {
+  kind.push_back(static_cast<std::uint8_t>(k));
+  x.push_back(px);
+  y.push_back(py);
+  z.push_back(pz);
+  cx.push_back(kNaN);
+  cy.push_back(kNaN);
+}
+
+void PocketPath::add_arc(bool ccw, double px, double py, double pz, double ccx, double ccy) {
+  kind.push_back(static_cast<std::uint8_t>(ccw ? PocketMove::ArcCCW : PocketMove::ArcCW));
+  x.push_back(px);
+  y.push_back(py);
+  z.push_back(pz);
+  cx.push_back(ccx);
+  cy.push_back(ccy);
+}
+
+void PocketPath::append(const PocketPath& o) {
+  kind.insert(kind.end(), o.kind.begin(), o.kind.end());
+  x.insert(x.end(), o.x.begin(), o.x.end());
+  y.insert(y.end(), o.y.begin(), o.y.end());
+  z.insert(z.end(), o.z.begin(), o.z.end());
+  cx.insert(cx.end(), o.cx.begin(), o.cx.end());
+  cy.insert(cy.end(), o.cy.begin(), o.cy.end());
+}
+
+namespace pocket {
+
+void check_params(const PocketParams& p, bool sculptured) {
+  auto bad = [](const std::string& name, double v, const std::string& limit) {
+    std::ostringstream m;
+    m << name << " = " << v << " is out of range: " << limit;
+    throw InvalidArgument(m.str());
+  };
+  const double r = p.tool_radius;
+  if (!std::isfinite(r) || r <= 0) bad("tool_radius", r, "must be > 0");
+  if (!std::isfinite(p.stepover) || p.stepover <= 0 || p.stepover > 2 * r)
+    bad("stepover", p.stepover, "must be > 0 and <= the tool diameter");
+  if (!std::isfinite(p.tolerance) || p.tolerance <= 0 || p.tolerance > 0.25 * r)
+    bad("tolerance", p.tolerance, "must be > 0 and <= tool_radius / 4");
+  if (!std::isfinite(p.floor_tolerance) || p.floor_tolerance <= 0)
+    bad("floor_tolerance", p.floor_tolerance, "must be > 0");
+  if (sculptured &&
+      (!std::isfinite(p.scallop_height) || p.scallop_height <= 0 || p.scallop_height >= r))
+    bad("scallop_height", p.scallop_height, "must be > 0 and < tool_radius");
+  if (!std::isfinite(p.safe_z)) bad("safe_z", p.safe_z, "must be finite");
+  if (!std::isfinite(p.min_arc_chord) || p.min_arc_chord < 0)
+    bad("min_arc_chord", p.min_arc_chord, "must be >= 0");
+}
+
+void check_depths(const std::vector<double>& depths, double safe_z) {
+  if (depths.empty()) throw InvalidArgument("depths: at least one z level is needed");
+  for (std::size_t i = 0; i < depths.size(); ++i) {
+    if (!std::isfinite(depths[i])) throw InvalidArgument("depths: a level is not finite");
+    if (i > 0 && !(depths[i] < depths[i - 1]))
+      throw InvalidArgument("depths: levels must decrease strictly (top to bottom)");
+    if (depths[i] >= safe_z) throw InvalidArgument("depths: every level must be below safe_z");
+  }
+}
+
+FlatPlan make_flat_plan(const std::vector<Loop>& region, const PocketParams& p, double snap,
+                        const ProgressSlice& progress) {
+  FlatPlan plan;
+  TreeOptions to;
+  to.radius = p.tool_radius;
+  to.cov_tol = p.tolerance;
+  to.snap = snap;
+  const Step st{p.stepover, p.tool_radius};
+  plan.tree = build_offset_tree(
+      region, to, [st](TreeNode&) { return st; }, progress);
+  OrderOptions oo;
+  oo.radius = p.tool_radius;
+  oo.snap = snap;
+  plan.cuts = order_cuts(plan.tree, oo);
+  plan.snap = snap;
+  return plan;
+}
+
+void move_to_start(PocketPath& path, P2 s, double z, LinkKind link, double safe_z) {
+  if (link == LinkKind::Feed) {
+    if (path.size() > 0 && std::hypot(path.x.back() - s.x, path.y.back() - s.y) > 0)
+      path.add(PocketMove::Feed, s.x, s.y, z);
+    return;
+  }
+  if (path.size() > 0) path.add(PocketMove::Rapid, path.x.back(), path.y.back(), safe_z);
+  path.add(PocketMove::Rapid, s.x, s.y, safe_z);
+  path.add(PocketMove::Plunge, s.x, s.y, z);
+}
+
+void emit_seg_flat(PocketPath& path, const Seg& s, double z, double min_chord) {
+  if (s.kind == SegKind::Line) {
+    path.add(PocketMove::Feed, s.b.x, s.b.y, z);
+    return;
+  }
+  // Arcs of at most a half turn: a G2/G3 is exact, but one whose end comes
+  // back near its start is ill-conditioned for controllers.
+  const int n = std::max(1, static_cast<int>(std::ceil(std::abs(s.sweep) / kPi - 1e-9)));
+  for (int k = 0; k < n; ++k) {
+    Seg piece = s.sub(static_cast<double>(k) / n, static_cast<double>(k + 1) / n);
+    if (k + 1 == n) piece.b = s.b;
+    const P2 from{path.x.back(), path.y.back()};
+    if (dist(from, piece.b) < min_chord)
+      path.add(PocketMove::Feed, piece.b.x, piece.b.y, z);
+    else
+      path.add_arc(s.sweep > 0, piece.b.x, piece.b.y, z, s.c.x, s.c.y);
+  }
+}
+
+void emit_flat_plan(const FlatPlan& plan, double z, const PocketParams& p, PocketPath& path,
+                    PocketMetrics& m) {
+  const bool climb = p.direction == CutDirection::Climb;
+  bool first = true;
+  for (const LoopCut& cut : plan.cuts) {
+    const Loop& loop = plan.tree.nodes[static_cast<std::size_t>(cut.node)]
+                           .loops[static_cast<std::size_t>(cut.loop)];
+    const Loop trav = loop_from(loop, cut.seg, cut.t, climb, plan.snap);
+    if (trav.empty()) continue;
+    // A new level starts with a retract even if its first cut could link.
+    const LinkKind link = first ? LinkKind::Start : cut.link;
+    move_to_start(path, trav.front().a, z, link, p.safe_z);
+    if (link == LinkKind::Feed) ++m.feed_links;
+    for (const Seg& s : trav) emit_seg_flat(path, s, z, p.min_arc_chord);
+    ++m.loops;
+    first = false;
+  }
+  int depth = 0;
+  for (const TreeNode& n : plan.tree.nodes) depth = std::max(depth, n.depth);
+  m.tree_depth = std::max(m.tree_depth, depth);
+  m.reduced_intervals += plan.tree.reduced;
+  if (!plan.tree.nodes.empty()) {
+    m.min_interval =
+        m.min_interval > 0 ? std::min(m.min_interval, plan.tree.min_step) : plan.tree.min_step;
+    m.max_interval = std::max(m.max_interval, plan.tree.max_step);
+  }
+}
+
+void measure_path(const PocketPath& path, PocketMetrics& m) {
+  m.cutting_length = m.rapid_length = m.plunge_length = 0.0;
+  m.retracts = m.arcs = m.cl_points = 0;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const double dx = path.x[i] - path.x[i - 1], dy = path.y[i] - path.y[i - 1];
+    const double dz = path.z[i] - path.z[i - 1];
+    const double chord = std::sqrt(dx * dx + dy * dy + dz * dz);
+    switch (static_cast<PocketMove>(path.kind[i])) {
+      case PocketMove::Feed:
+        m.cutting_length += chord;
+        ++m.cl_points;
+        break;
+      case PocketMove::ArcCW:
+      case PocketMove::ArcCCW: {
+        const P2 c{path.cx[i], path.cy[i]};
+        const P2 a{path.x[i - 1], path.y[i - 1]}, b{path.x[i], path.y[i]};
+        const bool ccw = path.kind[i] == static_cast<std::uint8_t>(PocketMove::ArcCCW);
+        double sw = ccw ? wrap_2pi(angle_of(b - c) - angle_of(a - c))
+                        : wrap_2pi(angle_of(a - c) - angle_of(b - c));
+        if (sw == 0.0) sw = kTwoPi;
+        m.cutting_length += dist(a, c) * sw;
+        ++m.cl_points;
+        ++m.arcs;
+        break;
+      }
+      case PocketMove::Plunge:
+        m.plunge_length += chord;
+        break;
+      case PocketMove::Rapid:
+        m.rapid_length += chord;
+        if (dz > 0 && std::abs(dx) + std::abs(dy) < 1e-12) ++m.retracts;
+        break;
+    }
+  }
+}
+
+}  // namespace pocket
+
+std::vector<Loop> make_region(const Loop& boundary, const std::vector<Loop>& islands) {
+  std::vector<Loop> region;
+  region.push_back(signed_area(boundary) >= 0 ? boundary : reversed(boundary));
+  for (const Loop& l : islands) region.push_back(signed_area(l) <= 0 ? l : reversed(l));
+  return region;
+}
+
+PocketResult spiral_pocket(const std::vector<Loop>& region, const std::vector<double>& depths,
+                           const PocketParams& params, Progress* progress) {
+  check_params(params, false);
+  check_depths(depths, params.safe_z);
+  const ProgressSlice ps(progress);
+  PocketResult res;
+  if (region.empty()) return res;
+  const FlatPlan plan = make_flat_plan(region, params, default_snap(region), ps.sub(0.0, 0.9));
+  for (double z : depths) {
+    emit_flat_plan(plan, z, params, res.path, res.metrics);
+    ++res.metrics.levels;
+  }
+  measure_path(res.path, res.metrics);
+  ps.report(1.0);
+  return res;
+}
+
+}  // namespace isocam
