@@ -130,20 +130,33 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const double delta_work = delta * (1.0 - 4e-9);
   IsoResult result;
   result.metrics.delta = delta;
-  std::vector<PickedFace> picked;
-  picked.reserve(faces.size());
-  ClearanceModel model(params.gouge_tolerance);
-  for (int f : faces) {
+  // Every picked face gets its grid and trimmed domain and is kept clear of
+  // the ball; with protect_unpicked_faces so is every other face of the
+  // model (the manufacturing offset of the union, section 3 of the paper).
+  std::vector<PickedFace> model_faces;
+  model_faces.reserve(all.size());
+  std::vector<std::size_t> picked(faces.size(), all.size());
+  ClearanceModel model(params.gouge_tolerance, 2.0 * params.ball_radius);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const int f = static_cast<int>(i);
+    const auto at = std::find(faces.begin(), faces.end(), f);
+    if (at == faces.end() && !params.protect_unpicked_faces) continue;
     try {
-      const TopoDS_Face& face = all[static_cast<std::size_t>(f)];
-      picked.push_back({f, PatchGrid::from_face(face, f), std::nullopt});
-      picked.back().trim.emplace(face, picked.back().grid, f);  // reserve(): no reallocation
+      model_faces.push_back({f, PatchGrid::from_face(all[i], f), std::nullopt});
+      model_faces.back().trim.emplace(all[i], model_faces.back().grid, f);  // reserve(): stable
+      model.add(model_faces.back().grid, &*model_faces.back().trim);
     } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+      if (at != faces.end())
+        throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+      result.warnings.push_back(face_label(f) + " is not protected from the ball: " +
+                                e.GetMessageString());
+      continue;
+    } catch (const GeometryError& e) {
+      if (at != faces.end()) throw;
+      result.warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
+      continue;
     }
-    // The ball is kept clear of every picked face, its own included where it
-    // curves tighter than the ball.
-    model.add(picked.back().grid);
+    if (at != faces.end()) picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
   }
   model.build();
   double max_dist = 0.0;
@@ -151,10 +164,11 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
   std::vector<CutPiece> pieces;
   for (std::size_t k = 0; k < picked.size(); ++k) {
-    const int f = picked[k].index;
+    const PickedFace& face = model_faces[picked[k]];
+    const int f = face.index;
     FaceResult best;
     try {
-      best = best_direction(picked[k], delta_work, params, model,
+      best = best_direction(face, delta_work, params, model,
                             ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
     } catch (const Standard_Failure& e) {
       throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());

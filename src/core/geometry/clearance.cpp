@@ -10,6 +10,20 @@
 #include "isocam/errors.h"
 
 namespace isocam {
+
+constexpr int kMaxNet = 100;  // up to degree 9 x 9
+
+// A control net being subdivided (fixed storage: no allocation per piece).
+struct ClearanceModel::Net {
+  int pu = 0, pv = 0, depth = 0;
+  bool inside = true;  // known to lie inside the face's trimmed domain
+  double u0 = 0, u1 = 1, v0 = 0, v1 = 1;  // its grid parameters
+  std::array<H4, kMaxNet> c;  // (a, b) at a + (pu + 1) * b
+  int size() const { return (pu + 1) * (pv + 1); }
+  H4& at(int a, int b) { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
+  const H4& at(int a, int b) const { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
+};
+
 namespace {
 
 gp_Pnt project(const H4& h) { return gp_Pnt(h.x / h.w, h.y / h.w, h.z / h.w); }
@@ -21,15 +35,7 @@ double point_segment_distance(const gp_Pnt& p, const gp_Pnt& a, const gp_Pnt& b)
   return p.Distance(a.Translated(ab * t));
 }
 
-// A control net being subdivided (fixed storage: no allocation per piece).
-constexpr int kMaxNet = 100;  // up to degree 9 x 9
-struct Net {
-  int pu = 0, pv = 0, depth = 0;
-  std::array<H4, kMaxNet> c;  // (a, b) at a + (pu + 1) * b
-  int size() const { return (pu + 1) * (pv + 1); }
-  H4& at(int a, int b) { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
-  const H4& at(int a, int b) const { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
-};
+using Net = ClearanceModel::Net;
 
 // Per-thread stack of pieces, reused across queries.
 std::vector<Net>& scratch() {
@@ -42,6 +48,16 @@ void split(const Net& n, bool along_u, Net& l, Net& r) {
   l.pu = r.pu = n.pu;
   l.pv = r.pv = n.pv;
   l.depth = r.depth = n.depth + 1;
+  l.inside = r.inside = n.inside;
+  l.u0 = r.u0 = n.u0;
+  l.u1 = r.u1 = n.u1;
+  l.v0 = r.v0 = n.v0;
+  l.v1 = r.v1 = n.v1;
+  if (along_u) {
+    l.u1 = r.u0 = 0.5 * (n.u0 + n.u1);
+  } else {
+    l.v1 = r.v0 = 0.5 * (n.v0 + n.v1);
+  }
   const int m = along_u ? n.pu : n.pv;          // degree along the split
   const int lines = along_u ? n.pv + 1 : n.pu + 1;
   std::array<H4, kMaxNet> w;
@@ -153,36 +169,71 @@ void ClearanceModel::Box::add(const Box& b) {
   }
 }
 
-void ClearanceModel::add(const PatchGrid& g) {
+void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
   const std::size_t n = static_cast<std::size_t>((g.degree_u() + 1) * (g.degree_v() + 1));
   if (n > static_cast<std::size_t>(kMaxNet))
     throw GeometryError("surface degree " + std::to_string(g.degree_u()) + " x " +
                         std::to_string(g.degree_v()) + " is above the supported 9 x 9");
   for (int j = 0; j < g.patches_v(); ++j) {
     for (int i = 0; i < g.patches_u(); ++i) {
-      Patch p;
-      p.pu = g.degree_u();
-      p.pv = g.degree_v();
-      p.first = cps_.size();
-      const H4* c = g.patch(i, j);
-      cps_.insert(cps_.end(), c, c + n);
-      std::array<gp_Pnt, kMaxNet> pts;
-      for (std::size_t k = 0; k < n; ++k) {
-        pts[k] = project(c[k]);
-        p.box.add(pts[k]);
-      }
-      const int pu = g.degree_u(), pv = g.degree_v();
-      const gp_Pnt corners[4] = {pts[0], pts[static_cast<std::size_t>(pu)],
-                                 pts[static_cast<std::size_t>((pu + 1) * pv)], pts[n - 1]};
-      const Obb obb(pts.data(), static_cast<int>(n), corners);
-      for (int k = 0; k < 3; ++k) {
-        p.axes[k] = obb.axes[k];
-        p.olo[k] = obb.lo[k];
-        p.ohi[k] = obb.hi[k];
-      }
-      patches_.push_back(p);
+      Net net;
+      net.pu = g.degree_u();
+      net.pv = g.degree_v();
+      net.u0 = g.ubreaks()[static_cast<std::size_t>(i)];
+      net.u1 = g.ubreaks()[static_cast<std::size_t>(i) + 1];
+      net.v0 = g.vbreaks()[static_cast<std::size_t>(j)];
+      net.v1 = g.vbreaks()[static_cast<std::size_t>(j) + 1];
+      std::copy(g.patch(i, j), g.patch(i, j) + n, net.c.begin());
+      add_piece(net, trim);
     }
   }
+}
+
+void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
+  int state = 1;
+  if (trim) {
+    state = trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
+    if (state < 0) return;  // no part of the face here
+  }
+  const int n = net.size();
+  std::array<gp_Pnt, kMaxNet> pts;
+  Box box;
+  for (int k = 0; k < n; ++k) {
+    pts[static_cast<std::size_t>(k)] = project(net.c[static_cast<std::size_t>(k)]);
+    box.add(pts[static_cast<std::size_t>(k)]);
+  }
+  const gp_Pnt corners[4] = {pts[0], project(net.at(net.pu, 0)), project(net.at(0, net.pv)),
+                             pts[static_cast<std::size_t>(n - 1)]};
+  const Obb obb(pts.data(), n, corners);
+  // Large pieces are stored split (to about max_piece_), so that a query
+  // starts from pieces whose oriented boxes are already tight.
+  if (obb.extent() > max_piece_ && net.depth < 16) {
+    const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
+    const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
+    Net left, right;
+    split(net, lu >= lv, left, right);
+    add_piece(left, trim);
+    add_piece(right, trim);
+    return;
+  }
+  Patch p;
+  p.pu = net.pu;
+  p.pv = net.pv;
+  p.u0 = net.u0;
+  p.u1 = net.u1;
+  p.v0 = net.v0;
+  p.v1 = net.v1;
+  p.state = state;
+  p.trim = state == 0 ? trim : nullptr;
+  p.first = cps_.size();
+  cps_.insert(cps_.end(), net.c.begin(), net.c.begin() + n);
+  p.box = box;
+  for (int k = 0; k < 3; ++k) {
+    p.axes[k] = obb.axes[k];
+    p.olo[k] = obb.lo[k];
+    p.ohi[k] = obb.hi[k];
+  }
+  patches_.push_back(p);
 }
 
 void ClearanceModel::build() {
@@ -256,19 +307,38 @@ bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_P
   Net& root = stack.back();
   root.pu = patch.pu;
   root.pv = patch.pv;
+  root.depth = 0;
+  root.inside = patch.trim == nullptr;
+  root.u0 = patch.u0;
+  root.u1 = patch.u1;
+  root.v0 = patch.v0;
+  root.v1 = patch.v1;
   std::copy(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
             cps_.begin() + static_cast<std::ptrdiff_t>(patch.first) + root.size(), root.c.begin());
   std::array<gp_Pnt, kMaxNet> pts;
+  // A query that cannot be decided within this many pieces answers "not
+  // clear": slow cases cost some path, never a gouge.
+  int budget = 4000;
   while (!stack.empty()) {
-    const Net net = stack.back();
+    if (--budget < 0) return false;
+    Net net = stack.back();
     stack.pop_back();
+    if (!net.inside) {
+      const int state = patch.trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
+      if (state < 0) continue;  // this piece is outside the face
+      net.inside = state > 0;
+    }
     const int n = net.size();
     for (int k = 0; k < n; ++k) pts[static_cast<std::size_t>(k)] = project(net.c[static_cast<std::size_t>(k)]);
-    // A witness: the piece's corners are points of the surface.
+    // A witness: the piece's corners are points of the surface (and, on a
+    // trimmed face, must be points of the face).
     const gp_Pnt corners[4] = {pts[0], project(net.at(net.pu, 0)), project(net.at(0, net.pv)),
                                pts[static_cast<std::size_t>(n - 1)]};
-    for (const gp_Pnt& q : corners)
-      if (point_segment_distance(q, a, b) < d) return false;
+    const double cu[4] = {net.u0, net.u1, net.u0, net.u1}, cv[4] = {net.v0, net.v0, net.v1, net.v1};
+    for (int k = 0; k < 4; ++k)
+      if (point_segment_distance(corners[k], a, b) < d &&
+          (net.inside || patch.trim->contains(cu[k], cv[k])))
+        return false;
     const Obb box(pts.data(), n, corners);
     if (segment_box_distance(box.local(a), box.local(b), box.lo, box.hi) >= d) continue;
     if (box.extent() <= eps_ || net.depth > 40) continue;  // clear within eps

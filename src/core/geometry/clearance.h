@@ -22,14 +22,19 @@
 #include <gp_XYZ.hxx>
 
 #include "geometry/patch_grid.h"
+#include "geometry/trim_domain.h"
 
 namespace isocam {
 
 class ClearanceModel {
  public:
-  explicit ClearanceModel(double eps) : eps_(eps) {}
-  // Adds every patch of the grid.
-  void add(const PatchGrid& grid);
+  // eps: the accuracy of the answers; max_piece: pieces of surface larger
+  // than this are stored split (a few ball radii is a good size).
+  ClearanceModel(double eps, double max_piece) : eps_(eps), max_piece_(max_piece) {}
+  // Adds every patch of the grid; with `trim` (the face's domain, which must
+  // outlive the model) only the part of the surface inside the face counts:
+  // pieces outside it are skipped and a witness must lie inside it.
+  void add(const PatchGrid& grid, const TrimDomain* trim = nullptr);
   // Builds the hierarchy; call once after the last add().
   void build();
 
@@ -38,6 +43,8 @@ class ClearanceModel {
   bool clear(const gp_Pnt& c, double d) const { return clear(c, c, d); }
 
   double tolerance() const { return eps_; }
+
+  struct Net;  // a control net being subdivided (defined in clearance.cpp)
 
  private:
   struct Box {
@@ -51,6 +58,9 @@ class ClearanceModel {
     Box box;                // axis-aligned box of the control net
     gp_XYZ axes[3];         // and an oriented one: axes, then bounds along them
     double olo[3] = {0, 0, 0}, ohi[3] = {0, 0, 0};
+    const TrimDomain* trim = nullptr;  // null or the face's domain
+    int state = 1;                     // 1 inside the face, 0 meets its boundary
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  // the patch's grid parameters
   };
   struct Node {
     Box box;
@@ -59,9 +69,10 @@ class ClearanceModel {
   };
 
   int build_node(int lo, int hi);
+  void add_piece(const Net& net, const TrimDomain* trim);
   bool patch_clear(const Patch& p, const gp_Pnt& a, const gp_Pnt& b, double d) const;
 
-  double eps_;
+  double eps_, max_piece_;
   std::vector<H4> cps_;
   std::vector<Patch> patches_;
   std::vector<int> order_;

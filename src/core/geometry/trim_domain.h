@@ -8,12 +8,15 @@
 #include <memory>
 #include <vector>
 
+#include <Geom_Surface.hxx>
 #include <TopoDS_Face.hxx>
 
 #include "geometry/bernstein.h"
 #include "geometry/patch_grid.h"
 
 class Geom2dHatch_Hatcher;
+class BRepTopAdaptor_FClass2d;
+class Geom2d_Curve;
 
 namespace isocam {
 
@@ -30,16 +33,55 @@ class TrimDomain {
   // otherwise u = level and t runs along v. Grid parameters in and out.
   std::vector<Interval> inside(bool iso_v, double level, double t0, double t1) const;
 
-  // True if the grid point (u, v) is inside the face or on its boundary.
+  // True if the grid point (u, v) is inside the face, or within 1/512 of the
+  // parameter range of its boundary (conservative: for the clearance check,
+  // where counting a little too much of the surface as face only protects).
   bool contains(double u, double v) const;
+
+  // The grid rectangle [u0, u1] x [v0, v1]: -1 entirely outside the face,
+  // 1 entirely inside, 0 it may meet the boundary. Exact in that a rectangle
+  // reported inside or outside is; 0 is the conservative answer.
+  int classify_rect(double u0, double u1, double v0, double v1) const;
 
  private:
   // Grid parameter -> face parameter, per direction (0: u, 1: v).
   double to_face(int dir, double g) const;
   double to_grid(int dir, double f) const;
+  // The hatcher's domains along the face iso-line at face parameter f;
+  // false if it could not decide.
+  bool hatch(bool iso_v, double f, double t0, double t1, std::vector<Interval>* out) const;
+
+  void add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, double range);
+  // Tabulated face(grid) maps for analytic faces, with a margin that bounds
+  // their interpolation error.
+  double face_approx(int dir, double g) const;
+
+  struct Box2 {
+    double lo[2], hi[2];
+    bool meets(const double a[2], const double b[2]) const {
+      return lo[0] <= b[0] && hi[0] >= a[0] && lo[1] <= b[1] && hi[1] >= a[1];
+    }
+  };
+  // A quadtree over the face's parameter rectangle: a node that no boundary
+  // box meets is wholly inside (1) or outside (-1) the face (one classifier
+  // call decides); nodes that meet the boundary are split down to a depth,
+  // below which they stay undecided (0).
+  struct QuadNode {
+    double lo[2], hi[2];
+    int state = 0;       // 1, -1, 0 (undecided leaf), 2 (has children)
+    int first_child = -1;  // children at first_child .. first_child + 3
+  };
+  void build_quadtree(int node, const std::vector<int>& boxes, int depth);
+  int query_quadtree(int node, const double lo[2], const double hi[2]) const;
 
   TopoDS_Face face_;
+  Handle(Geom_Surface) surface_;  // the face's own surface (with its location)
+  std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // built once, reused
   const PatchGrid* grid_;
+  std::vector<Box2> boundary_;          // boxes that contain the edges' p-curves
+  std::vector<QuadNode> quad_;
+  std::vector<double> table_g_[2], table_f_[2];
+  double table_margin_[2] = {0, 0};
   int label_;
   double fmin_[2], fmax_[2];  // the face's parameter bounds
   std::unique_ptr<Geom2dHatch_Hatcher> hatcher_;

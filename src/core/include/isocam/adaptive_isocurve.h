@@ -10,9 +10,11 @@
 // the face orientation says), each sub-isocurve linearised within the chord
 // tolerance, and the path is returned in tool-tip coordinates. No gouge is
 // global: wherever a centre (or a chord between centres) would come closer
-// than r - chord_tolerance - gouge_tolerance to any picked face, its own
-// included where it curves tighter than the ball, the path is cut away there
-// and the length left out is reported.
+// than r - chord_tolerance - gouge_tolerance to any picked face (and, with
+// protect_unpicked_faces, any other face of the shape), its own included
+// where it curves tighter than the ball, trimmed faces counting only inside
+// their wires, the path is cut away there, and the length left out is
+// reported.
 #pragma once
 
 #include <string>
@@ -45,6 +47,11 @@ struct IsoParams {
   double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
   double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
+  // Keep the ball clear of the faces not picked too. Off by default for now:
+  // near the wires of a trimmed face the check counts a band of up to 1/512
+  // of its parameter range as face, which can cut away passes that touch a
+  // neighbouring face's edge (see README, Status).
+  bool protect_unpicked_faces = false;
   double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
 };
 
@@ -81,6 +88,7 @@ struct IsoResult {
   IsoMetrics metrics;
   std::vector<SubIsocurve> curves;        // the coverage, in machining order
   std::vector<IsoDirection> face_direction;  // direction used per picked face
+  std::vector<std::string> warnings;         // e.g. a face that could not be protected
 };
 
 // delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2).
