@@ -9,7 +9,8 @@ the user's properties; it only writes the read-only "Certificate" properties
 
 Errors (habit 4, one error model). A bad input -- a tool that is not a ball
 end, no face picked, a parameter out of range (the core's ``ValueError``), a
-face the core cannot machine (its ``RuntimeError``), a cancel -- is logged
+face the core cannot machine (its ``RuntimeError``), a cancel requested through
+``op.Proxy.active_progress.cancel()`` -- is logged
 with a message that names the tool, property or face; the op's Path is
 emptied, its certificate cleared, and :class:`IsoCAMError` is raised out of
 ``execute``. FreeCAD then marks this object, and only it, invalid (red mark in
@@ -18,6 +19,10 @@ headless too: ``Document.recompute()`` does not raise, the other objects keep
 their values and objects depending on the op stay touched. FreeCAD's own ops
 log and return normally, which leaves a valid-looking op with a stale or
 empty path; we do not copy that.
+
+Cancel from the GUI's progress dialog is not an error of the inputs: the
+recompute is aborted and the op keeps its previous path and certificate,
+marked to be recomputed (freecad_ext/gui/progress.py).
 """
 
 import threading
@@ -345,21 +350,17 @@ def _describe(exc):
 
 
 def _wait(worker, progress):
-    """Block until the worker ends; in the GUI keep the window painted."""
+    """Block until the worker ends.
+
+    In the GUI, freecad_ext.gui.progress keeps the window painted, shows the
+    progress and lets the user cancel (see there for what a cancel does).
+    """
     if not FreeCAD.GuiUp:
         worker.join()
         return
-    from PySide import QtCore, QtGui  # GUI only
+    from freecad_ext.gui import progress as gui_progress  # GUI only
 
-    import FreeCADGui
-
-    bar = FreeCADGui.getMainWindow().statusBar()
-    while worker.is_alive():
-        worker.join(0.1)
-        bar.showMessage("Adaptive isocurve: %d %%" % int(100 * progress.fraction))
-        # Paint only: user input could start another recompute meanwhile.
-        QtGui.QApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents)
-    bar.clearMessage()
+    gui_progress.wait(worker, progress, "Adaptive isocurve")
 
 
 def commands_from_moves(kind, xyz, horiz_feed, vert_feed):

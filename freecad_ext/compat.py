@@ -14,10 +14,21 @@ PathJob             PathScripts.PathJob            Path.Main.Job
 PathToolController  PathScripts.PathToolController Path.Tool.Controller
 tool_bit_module()   PathScripts.PathToolBit        Path.Tool.Bit
 load_post_script()  PathScripts.post.<name>_post   Path.Post.scripts.<name>[_legacy]_post
+gui().OpGui         PathScripts.PathOpGui          Path.Op.Gui.Base
+gui().Selection     PathScripts.PathSelection      Path.Op.Gui.Selection
+gui().GuiUtil       PathScripts.PathGui            Path.Base.Gui.Util
+gui().JobGui        PathScripts.PathJobGui         Path.Main.Gui.Job
+gui().Preferences   PathScripts.PathPreferences    Path.Preferences
+gui().UtilsGui      PathScripts.PathUtilsGui       PathScripts.PathUtilsGui
 ==================  =============================  ==================================
 
-Only FreeCAD 0.20.2 is exercised by the tests; the 0.21/1.0 names follow
-FreeCAD's own module moves and are tried first.
+FreeCAD 1.0 also renamed the workbench (PathWorkbench -> CAMWorkbench), its
+commands (Path_Post -> CAM_Post) and its preference group; see
+:func:`renamed_to_cam` and the names derived from it.
+
+Only FreeCAD 0.20.2 is exercised for real by the tests; the 0.21/1.0 names
+follow FreeCAD's own module moves, are tried first, and are checked against a
+faked package layout (tests/python/test_compat_layout.py).
 """
 
 import contextlib
@@ -48,15 +59,29 @@ def _import_first(*names):
     )
 
 
-PathOp = _import_first("Path.Op.Base", "PathScripts.PathOp")
-PathLog = _import_first("Path.Log", "PathScripts.PathLog")
-PathUtil = _import_first("Path.Base.Util", "PathScripts.PathUtil")
-PathUtils = _import_first("PathScripts.PathUtils")
-PathSetupSheet = _import_first("Path.Base.SetupSheet", "PathScripts.PathSetupSheet")
-PathJob = _import_first("Path.Main.Job", "PathScripts.PathJob")
-PathToolController = _import_first(
-    "Path.Tool.Controller", "PathScripts.PathToolController"
-)
+# FreeCAD's Path modules by the names the glue uses, imported on first use
+# (PEP 562), so that importing this module at GUI start-up costs nothing.
+_MODULES = {
+    "PathOp": ("Path.Op.Base", "PathScripts.PathOp"),
+    "PathLog": ("Path.Log", "PathScripts.PathLog"),
+    "PathUtil": ("Path.Base.Util", "PathScripts.PathUtil"),
+    "PathUtils": ("PathScripts.PathUtils",),
+    "PathSetupSheet": ("Path.Base.SetupSheet", "PathScripts.PathSetupSheet"),
+    "PathJob": ("Path.Main.Job", "PathScripts.PathJob"),
+    "PathToolController": ("Path.Tool.Controller", "PathScripts.PathToolController"),
+}
+
+
+def __getattr__(name):
+    try:
+        names = _MODULES[name]
+    except KeyError:
+        raise AttributeError(
+            "module %r has no attribute %r" % (__name__, name)
+        ) from None
+    module = _import_first(*names)
+    globals()[name] = module
+    return module
 
 
 def tool_bit_module():
@@ -98,6 +123,70 @@ def active_document(doc):
         if previous is not None and previous is not doc:
             if previous.Name in FreeCAD.listDocuments():
                 FreeCAD.setActiveDocument(previous.Name)
+
+
+# -- names FreeCAD 1.0 changed ------------------------------------------------
+
+# The workbench our commands join, under either of its names.
+PATH_WORKBENCHES = ("PathWorkbench", "CAMWorkbench")
+
+
+def renamed_to_cam(version=None):
+    """True from FreeCAD 1.0 on, where the Path workbench is called CAM.
+
+    `version` is FreeCAD.Version() (a list of strings) or None for the
+    running FreeCAD.
+    """
+    version = FreeCAD.Version() if version is None else version
+    try:
+        major, minor = int(version[0]), int(version[1])
+    except (IndexError, TypeError, ValueError):
+        return False
+    return (major, minor) >= (1, 0)
+
+
+def path_command(name):
+    """FreeCAD's own command `name` ("Post", "Simulator") under this version's
+    prefix: Path_Post on 0.20/0.21, CAM_Post on 1.0."""
+    return ("CAM_" if renamed_to_cam() else "Path_") + name
+
+
+def preference_group():
+    """The preferences dialog group of the Path (CAM) workbench."""
+    return "CAM" if renamed_to_cam() else "Path"
+
+
+class _GuiModules:
+    """FreeCAD's Path GUI modules, imported on first use (GUI only)."""
+
+    _NAMES = {
+        "OpGui": ("Path.Op.Gui.Base", "PathScripts.PathOpGui"),
+        "Selection": ("Path.Op.Gui.Selection", "PathScripts.PathSelection"),
+        "GuiUtil": ("Path.Base.Gui.Util", "PathScripts.PathGui"),
+        "JobGui": ("Path.Main.Gui.Job", "PathScripts.PathJobGui"),
+        "Preferences": ("Path.Preferences", "PathScripts.PathPreferences"),
+        "UtilsGui": ("PathScripts.PathUtilsGui",),
+    }
+
+    def __getattr__(self, attr):
+        try:
+            names = self._NAMES[attr]
+        except KeyError:
+            raise AttributeError(attr) from None
+        module = _import_first(*names)
+        setattr(self, attr, module)
+        return module
+
+
+_gui_modules = _GuiModules()
+
+
+def gui():
+    """Namespace of FreeCAD's Path GUI modules (see the table above).
+
+    Importing them needs FreeCAD's GUI; headless code must not call this.
+    """
+    return _gui_modules
 
 
 # -- tools -----------------------------------------------------------------
@@ -142,13 +231,20 @@ def import_core():
     """Import the compiled ``isocam_core`` module or explain how to get it.
 
     It is looked up on sys.path first (FreeCAD puts Mod/IsoCAM there, and the
-    build places the module in that folder), then in $ISOCAM_ADDON_DIR.
+    build places the module in that folder), then in $ISOCAM_ADDON_DIR, then
+    in build/addon/IsoCAM under the addon's own folder (where `./run build`
+    puts it when the Addon Manager installed the sources as Mod/IsoCAM).
     """
     try:
         return importlib.import_module("isocam_core")
     except ImportError as first:
-        addon_dir = os.environ.get("ISOCAM_ADDON_DIR")
-        if addon_dir and addon_dir not in sys.path:
+        source_root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        for addon_dir in (
+            os.environ.get("ISOCAM_ADDON_DIR"),
+            os.path.join(source_root, "build", "addon", "IsoCAM"),
+        ):
+            if not addon_dir or addon_dir in sys.path or not os.path.isdir(addon_dir):
+                continue
             sys.path.append(addon_dir)
             try:
                 return importlib.import_module("isocam_core")

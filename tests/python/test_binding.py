@@ -45,24 +45,38 @@ class Binding(unittest.TestCase):
         self.assertEqual(xyz.dtype, np.float64)
         self.assertEqual(xyz.shape, (len(kind), 3))
         self.assertTrue(xyz.flags["C_CONTIGUOUS"])
-        self.assertTrue(set(np.unique(kind)).issubset({core.RAPID, core.FEED, core.PLUNGE}))
+        self.assertTrue(
+            set(np.unique(kind)).issubset({core.RAPID, core.FEED, core.PLUNGE})
+        )
 
     def test_metrics_agree_with_the_arrays(self):
         kind, xyz = self.res.kind, self.res.xyz
         seg = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
         m = self.res.metrics
-        self.assertAlmostEqual(seg[kind[1:] == core.FEED].sum(), m.cutting_length, delta=1e-6)
-        self.assertAlmostEqual(seg[kind[1:] == core.RAPID].sum(), m.rapid_length, delta=1e-6)
-        self.assertAlmostEqual(seg[kind[1:] == core.PLUNGE].sum(), m.plunge_length, delta=1e-6)
+        self.assertAlmostEqual(
+            seg[kind[1:] == core.FEED].sum(), m.cutting_length, delta=1e-6
+        )
+        self.assertAlmostEqual(
+            seg[kind[1:] == core.RAPID].sum(), m.rapid_length, delta=1e-6
+        )
+        self.assertAlmostEqual(
+            seg[kind[1:] == core.PLUNGE].sum(), m.plunge_length, delta=1e-6
+        )
         self.assertEqual(int((kind == core.PLUNGE).sum()), m.retracts)
         self.assertLessEqual(m.max_iso_distance, m.delta)
         self.assertLessEqual(m.guaranteed_scallop, 0.05)
-        self.assertAlmostEqual(m.delta, 2 * math.sqrt(2 * 3.0 * 0.05 - 0.05**2), places=12)
+        self.assertAlmostEqual(
+            m.delta, 2 * math.sqrt(2 * 3.0 * 0.05 - 0.05**2), places=12
+        )
         self.assertEqual(self.res.face_direction[0] in ("U", "V"), True)
 
     def test_stepover_formula(self):
-        self.assertAlmostEqual(core.stepover_for_scallop(3.0, 0.01), 2 * math.sqrt(0.06 - 1e-4))
-        self.assertAlmostEqual(core.scallop_for_stepover(3.0, core.stepover_for_scallop(3.0, 0.01)), 0.01)
+        self.assertAlmostEqual(
+            core.stepover_for_scallop(3.0, 0.01), 2 * math.sqrt(0.06 - 1e-4)
+        )
+        self.assertAlmostEqual(
+            core.scallop_for_stepover(3.0, core.stepover_for_scallop(3.0, 0.01)), 0.01
+        )
 
     def test_bad_arguments_raise_value_error_naming_them(self):
         cases = [
@@ -97,7 +111,9 @@ class Binding(unittest.TestCase):
         out = {}
 
         def work():
-            out["res"] = core.adaptive_isocurve(self.mat, [0], params(scallop_height=0.02), prog)
+            out["res"] = core.adaptive_isocurve(
+                self.mat, [0], params(scallop_height=0.02), prog
+            )
 
         worker = threading.Thread(target=work)
         worker.start()

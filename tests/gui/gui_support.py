@@ -1,0 +1,335 @@
+"""Helpers for the GUI tests (a helper, not a test file): waiting while the
+event loop runs, typing and clicking like a user, screenshots, dialogs the
+test expects, and snapshots of a document to prove what did not change."""
+
+import contextlib
+import os
+import time
+
+import FreeCAD
+import FreeCADGui
+import Part
+from PySide import QtCore, QtGui
+
+SCREENSHOTS = os.environ.get("ISOCAM_SCREENSHOT_DIR") or os.getcwd()
+DATA_DIR = os.environ.get("ISOCAM_TEST_DATA") or os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "data"
+)
+PATH_WORKBENCH = "PathWorkbench"
+
+_expected_dialogs = []  # predicates on a modal widget
+
+
+# -- the event loop -------------------------------------------------------------
+
+
+def pump(seconds=0.0):
+    """Let FreeCAD process events for `seconds` (at least once)."""
+    end = time.monotonic() + seconds
+    while True:
+        QtGui.QApplication.processEvents(QtCore.QEventLoop.AllEvents, 20)
+        if time.monotonic() >= end:
+            return
+        time.sleep(0.01)
+
+
+def wait_until(predicate, timeout, what):
+    """Process events until predicate() is true; fail with a screenshot."""
+    end = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > end:
+            path = screenshot("failure-waiting")
+            raise AssertionError(
+                "timed out after %g s waiting for %s (screenshot %s)"
+                % (timeout, what, path)
+            )
+        pump(0.02)
+
+
+def later(seconds, function):
+    """Run `function` from the event loop after `seconds` (also inside a
+    modal dialog's or the progress loop's event processing)."""
+    QtCore.QTimer.singleShot(int(seconds * 1000), function)
+
+
+# -- the window ------------------------------------------------------------------
+
+
+def prepare_main_window():
+    window = FreeCADGui.getMainWindow()
+    window.showMaximized()
+    for name in ("Report view", "Combo View"):
+        dock = window.findChild(QtGui.QDockWidget, name)
+        if dock is not None:
+            dock.show()
+    pump(0.2)
+    widen_combo_view()
+
+
+def widen_combo_view(width=440):
+    """Room for the task panels (workbench switches may narrow it again)."""
+    combo = combo_view()
+    if combo is not None and combo.width() < width:
+        FreeCADGui.getMainWindow().resizeDocks([combo], [width], QtCore.Qt.Horizontal)
+        pump(0.1)
+
+
+def screenshot(name, widget=None):
+    """Save the screen (or `widget`'s area of it) as <name>.png; return the path.
+
+    Taken from the X server, so the 3D view's OpenGL content is included.
+    Pass widgets the test holds (a temporary PySide wrapper, e.g. of
+    parentWidget(), may delete its widget when collected)."""
+    os.makedirs(SCREENSHOTS, exist_ok=True)
+    path = os.path.join(SCREENSHOTS, name + ".png")
+    if not name.startswith("failure"):
+        widen_combo_view()
+    screen = QtGui.QGuiApplication.primaryScreen()
+    if widget is None:
+        pixmap = screen.grabWindow(0)
+    else:
+        corner = widget.mapToGlobal(QtCore.QPoint(0, 0))
+        pixmap = screen.grabWindow(
+            0, corner.x(), corner.y(), widget.width(), widget.height()
+        )
+    pixmap.save(path)
+    return path
+
+
+def combo_view():
+    """The dock that holds the model tree and the task panels."""
+    return FreeCADGui.getMainWindow().findChild(QtGui.QDockWidget, "Combo View")
+
+
+def report_view_text():
+    window = FreeCADGui.getMainWindow()
+    dock = window.findChild(QtGui.QDockWidget, "Report view")
+    if dock is None:
+        return ""
+    edit = dock.findChild(QtGui.QTextEdit)
+    return edit.toPlainText() if edit is not None else ""
+
+
+def dump_report_view(stream):
+    stream.write(
+        "--- report view ---\n%s\n--- end of report view ---\n" % report_view_text()
+    )
+
+
+# -- user actions ----------------------------------------------------------------
+
+
+def toolbar_action(toolbar_title, command):
+    """The QAction of FreeCAD command `command` in the toolbar titled
+    `toolbar_title`, or None."""
+    window = FreeCADGui.getMainWindow()
+    for bar in window.findChildren(QtGui.QToolBar):
+        if bar.windowTitle() != toolbar_title or not bar.isVisible():
+            continue
+        for action in bar.actions():
+            if command in (action.objectName(), action.data()):
+                return action
+        for action in FreeCADGui.Command.get(command).getAction():
+            if action in bar.actions():
+                return action
+    return None
+
+
+def menu_action(menu_path, command):
+    """The QAction of `command` under the menu bar path, e.g.
+    ("&Path", "IsoCAM"); None if absent."""
+    window = FreeCADGui.getMainWindow()
+    actions = window.menuBar().actions()
+    for title in menu_path:
+        match = [a for a in actions if a.text() == title and a.menu() is not None]
+        if not match:
+            return None
+        menu = match[0].menu()
+        menu.aboutToShow.emit()  # FreeCAD fills some menus on demand
+        actions = menu.actions()
+    ours = FreeCADGui.Command.get(command).getAction()
+    return next((a for a in actions if a in ours), None)
+
+
+def type_text(widget, text, enter=False):
+    """Replace `widget`'s text by typing `text` key by key, as a user would.
+
+    enter=True presses Return afterwards; in a task panel FreeCAD takes that
+    as OK."""
+    activate(widget)
+    widget.setFocus(QtCore.Qt.OtherFocusReason)
+    pump()  # FreeCAD's spin boxes refresh their text on focus-in
+    widget.selectAll()
+    for char in text:
+        key = ord(char.upper())  # Qt's key codes for printable ASCII
+        for kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease):
+            event = QtGui.QKeyEvent(kind, key, QtCore.Qt.NoModifier, char)
+            QtGui.QApplication.sendEvent(widget, event)
+        pump()
+    if enter:
+        for kind in (QtCore.QEvent.KeyPress, QtCore.QEvent.KeyRelease):
+            event = QtGui.QKeyEvent(kind, QtCore.Qt.Key_Return, QtCore.Qt.NoModifier)
+            QtGui.QApplication.sendEvent(widget, event)
+        pump()
+
+
+def activate(widget):
+    """Make `widget`'s window the active one. Xvfb runs no window manager,
+    so after a dialog closes nothing gives the focus back by itself."""
+    window = widget.window()
+    if QtGui.QApplication.activeWindow() is not window:
+        window.activateWindow()
+        QtGui.QApplication.setActiveWindow(window)
+        pump(0.05)
+
+
+def click(button):
+    """Click like a mouse: the button takes the focus first, so a field being
+    edited finishes its editing (editingFinished) before the click acts."""
+    activate(button)
+    button.setFocus(QtCore.Qt.MouseFocusReason)
+    pump()
+    button.click()
+    pump()
+
+
+def button_labelled(widget, text):
+    """The push button with label `text` inside `widget` (e.g. a dialog)."""
+    for button in widget.findChildren(QtGui.QPushButton):
+        if button.text().replace("&", "") == text:
+            return button
+    raise AssertionError("no %r button in %r" % (text, widget.windowTitle()))
+
+
+def choose_in_combo(combo, text):
+    index = combo.findText(text)
+    if index < 0:
+        raise AssertionError("%r not offered in %s" % (text, combo.objectName()))
+    combo.setCurrentIndex(index)
+    pump()
+
+
+def task_button(which):
+    """The Task view's standard button `which` (QDialogButtonBox.Ok...)."""
+    window = FreeCADGui.getMainWindow()
+    for box in window.findChildren(QtGui.QDialogButtonBox):
+        button = box.button(which)
+        if button is not None and button.isVisible():
+            return button
+    return None
+
+
+# -- dialogs ---------------------------------------------------------------------
+
+
+def dialog_text(widget):
+    if isinstance(widget, QtGui.QMessageBox):
+        return widget.text()
+    if isinstance(widget, QtGui.QProgressDialog):
+        return widget.labelText()
+    return ""
+
+
+def dialog_is_expected(widget):
+    return any(predicate(widget) for predicate in _expected_dialogs)
+
+
+@contextlib.contextmanager
+def expect_dialog(predicate):
+    """Within the block, modal dialogs matching `predicate` do not trip the
+    runner's watchdog."""
+    _expected_dialogs.append(predicate)
+    try:
+        yield
+    finally:
+        _expected_dialogs.remove(predicate)
+
+
+def is_progress_dialog(widget):
+    return widget.objectName() == "IsoCAMProgress"
+
+
+def answer_message_box(seen, timeout=20.0):
+    """From the event loop, wait for a QMessageBox, record its text in
+    `seen` and close it (a user reading it and pressing OK)."""
+    end = time.monotonic() + timeout
+
+    def poll():
+        box = QtGui.QApplication.activeModalWidget()
+        if isinstance(box, QtGui.QMessageBox):
+            seen.append(box.text())
+            screenshot("message-box-%d" % len(seen))
+            box.accept()
+        elif time.monotonic() < end:
+            later(0.1, poll)
+
+    later(0.1, poll)
+
+
+# -- documents -------------------------------------------------------------------
+
+
+def load_shape(filename):
+    shape = Part.Shape()
+    shape.read(os.path.join(DATA_DIR, filename))
+    return shape
+
+
+def degenerate_face():
+    """A Bezier face whose poles lie on one line: no area; the core refuses
+    it with a GeometryError naming the face."""
+    surface = Part.BezierSurface()
+    surface.increase(2, 2)
+    for i in range(1, 4):
+        for j in range(1, 4):
+            surface.setPole(i, j, FreeCAD.Vector(10.0 * i + j, 0, 0))
+    return surface.toShape()
+
+
+def snapshot(doc, skip=()):
+    """What must not change: every object's name, type and label, its Path
+    (as G-code) and its shape (as B-rep), except the objects in `skip`."""
+    state = {}
+    for obj in doc.Objects:
+        if obj.Name in skip:
+            continue
+        path = obj.Path.toGCode() if hasattr(obj, "Path") else None
+        shape = None
+        if obj.isDerivedFrom("Part::Feature") and not obj.Shape.isNull():
+            shape = obj.Shape.exportBrepToString()
+        state[obj.Name] = (obj.TypeId, obj.Label, path, shape)
+    return state
+
+
+def set_view(doc_name, view="isometric", on=None):
+    """Orient the 3D view and fit it to all, or to the objects `on`.
+
+    (A path's preview starts at the origin, so fitting all of a Job whose
+    model lies far from it shows mostly that first rapid.)"""
+    gui_doc = FreeCADGui.getDocument(doc_name)
+    gui_view = gui_doc.ActiveView
+    getattr(gui_view, "view" + view.capitalize())()
+    if on:
+        FreeCADGui.Selection.clearSelection()
+        for obj in on:
+            FreeCADGui.Selection.addSelection(obj)
+        FreeCADGui.SendMsgToActiveView("ViewSelection")
+        FreeCADGui.Selection.clearSelection()
+    else:
+        gui_view.fitAll()
+    pump(0.3)
+
+
+def show_in_tree(obj):
+    """Expand the model tree down to `obj` (selecting it does) and leave it
+    unselected."""
+    window = FreeCADGui.getMainWindow()
+    tabs = combo_view().findChild(QtGui.QTabWidget)
+    if tabs is not None:
+        tabs.setCurrentIndex(0)
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(obj)
+    pump(0.2)
+    FreeCADGui.Selection.clearSelection()
+    pump(0.1)
+    return window
