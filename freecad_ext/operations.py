@@ -74,18 +74,20 @@ OPERATIONS = (
         module="freecad_ext.spiral_pocket",
         name="SpiralPocket",
         menu_text="Spiral Pocket",
-        tooltip="Pocket the picked floor faces with a spiral path.",
-        selection=FLOOR_FACES,
+        tooltip="Pocket the picked floor faces (flat or sculptured) with an "
+        "island-aware spiral path.",
+        # Any face: a sculptured floor is a valid pick; the operation checks.
+        selection=FACES,
         rules=(("faces",), ("tool",)),
     ),
     OperationSpec(
         module="freecad_ext.zlevel_roughing",
         name="ZLevelRoughing",
         menu_text="Z-level Roughing",
-        tooltip="Rough the material above the picked floor faces in constant-Z "
-        "levels.",
+        tooltip="Rough the stock down to the model in constant-Z levels, leaving "
+        "StockToLeave for the finish; picked faces (optional) set the final depth.",
         selection=FLOOR_FACES,
-        rules=(("faces",), ("tool",)),
+        rules=(("tool",),),
     ),
 )
 
