@@ -33,6 +33,7 @@ import Path
 
 from freecad_ext import compat
 from freecad_ext.compat import PathLog, PathOp
+from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
 
 __title__ = "IsoCAM Adaptive Isocurve operation"
 
@@ -118,20 +119,8 @@ _OUTPUTS = (
 _OUTPUT_GROUP = "Certificate"
 
 
-class IsoCAMError(Exception):
-    """An input the operation cannot be computed with; the message names it."""
-
-
-class ObjectAdaptiveIsocurve(PathOp.ObjectOp):
+class ObjectAdaptiveIsocurve(IsoCAMOp):
     """Proxy of an Adaptive Isocurve operation (module-level so documents reopen)."""
-
-    def __init__(self, obj, name, parentJob=None, toolController=None):
-        # Read by isToolSupported/opSetDefaultValues while the base class
-        # picks the tool controller; not saved with the document.
-        self._requested_tc = toolController
-        self.active_progress = None
-        super().__init__(obj, name, parentJob)
-        self._requested_tc = None
 
     # -- PathOp hooks -------------------------------------------------------
 
@@ -154,20 +143,8 @@ class ObjectAdaptiveIsocurve(PathOp.ObjectOp):
         # modes are not saved.
         _add_properties(obj, set_defaults=True)
 
-    def isToolSupported(self, obj, tool):
-        # FreeCAD offers (and, headless, picks) tool controllers through this
-        # filter. While Create() is given an explicit controller, only that
-        # one qualifies, which avoids FreeCAD's GUI-only choice among several.
-        requested = getattr(self, "_requested_tc", None)
-        if requested is not None:
-            return tool == requested.Tool
+    def accepts_tool(self, tool):
         return compat.is_ball_end(tool)
-
-    def opSetDefaultValues(self, obj, job):
-        requested = getattr(self, "_requested_tc", None)
-        if requested is not None:
-            obj.ToolController = requested
-            obj.OpToolDiameter = requested.Tool.Diameter
 
     def opExecute(self, obj):
         started = time.monotonic()
@@ -298,20 +275,7 @@ def _check_ball_end(obj):
 
 def _picked_faces(obj):
     """[(model object, [0-based face indices])] from obj.Base, in pick order."""
-    picked = []
-    for base, subs in obj.Base or []:
-        indices = []
-        for sub in subs:
-            if not sub.startswith("Face") or not sub[4:].isdigit():
-                raise IsoCAMError(
-                    "Base %s.%s is not a face; pick faces of the Job's model"
-                    % (base.Label, sub)
-                )
-            index = int(sub[4:]) - 1
-            if index not in indices:
-                indices.append(index)
-        if indices:
-            picked.append((base, indices))
+    picked = picked_faces(obj)
     if not picked:
         raise IsoCAMError(
             "no faces picked: set Base to one or more faces of the Job's model"

@@ -11,16 +11,13 @@ import threading
 import FreeCAD
 import Path
 
-from freecad_ext import compat
+from freecad_ext import compat, op_base
+from freecad_ext.op_base import IsoCAMError
 
 # Move kinds of the core's pocketing arrays (src/core isocam/pocketing.h).
 MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW = 0, 1, 2, 3, 4
 
 DIRECTIONS = ("Climb", "Conventional")
-
-
-class IsoCAMError(Exception):
-    """An input the operation cannot be computed with; the message names it."""
 
 
 def depth_levels(obj):
@@ -151,21 +148,7 @@ def commands_from_moves(kind, xyz, centre, horiz_feed, vert_feed):
 
 def picked_faces(obj):
     """[(model object, [0-based face indices])] from obj.Base, in pick order."""
-    picked = []
-    for base, subs in obj.Base or []:
-        indices = []
-        for sub in subs:
-            if not sub.startswith("Face") or not sub[4:].isdigit():
-                raise IsoCAMError(
-                    "Base %s.%s is not a face; pick floor faces of the Job's model"
-                    % (base.Label, sub)
-                )
-            index = int(sub[4:]) - 1
-            if index not in indices:
-                indices.append(index)
-        if indices:
-            picked.append((base, indices))
-    return picked
+    return op_base.picked_faces(obj, "floor faces")
 
 
 def add_properties(obj, inputs, outputs, output_group, set_defaults):

@@ -27,7 +27,7 @@ import Path
 
 from freecad_ext import compat, pocket_glue
 from freecad_ext.compat import PathLog, PathOp
-from freecad_ext.pocket_glue import IsoCAMError
+from freecad_ext.op_base import IsoCAMError, IsoCAMOp
 
 __title__ = "IsoCAM Spiral Pocket operation"
 
@@ -73,14 +73,8 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
-class ObjectSpiralPocket(PathOp.ObjectOp):
+class ObjectSpiralPocket(IsoCAMOp):
     """Proxy of a Spiral Pocket operation (module-level so documents reopen)."""
-
-    def __init__(self, obj, name, parentJob=None, toolController=None):
-        self._requested_tc = toolController
-        self.active_progress = None
-        super().__init__(obj, name, parentJob)
-        self._requested_tc = None
 
     # -- PathOp hooks -------------------------------------------------------
 
@@ -103,18 +97,6 @@ class ObjectSpiralPocket(PathOp.ObjectOp):
         pocket_glue.add_properties(
             obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
         )
-
-    def isToolSupported(self, obj, tool):
-        requested = getattr(self, "_requested_tc", None)
-        if requested is not None:
-            return tool == requested.Tool
-        return True
-
-    def opSetDefaultValues(self, obj, job):
-        requested = getattr(self, "_requested_tc", None)
-        if requested is not None:
-            obj.ToolController = requested
-            obj.OpToolDiameter = requested.Tool.Diameter
 
     def opExecute(self, obj):
         started = time.monotonic()

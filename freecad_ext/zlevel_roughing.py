@@ -23,7 +23,7 @@ import Path
 
 from freecad_ext import compat, pocket_glue
 from freecad_ext.compat import PathLog, PathOp
-from freecad_ext.pocket_glue import IsoCAMError
+from freecad_ext.op_base import IsoCAMError, IsoCAMOp
 
 __title__ = "IsoCAM Z-level Roughing operation"
 
@@ -66,14 +66,8 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
-class ObjectZLevelRoughing(PathOp.ObjectOp):
+class ObjectZLevelRoughing(IsoCAMOp):
     """Proxy of a Z-level Roughing operation."""
-
-    def __init__(self, obj, name, parentJob=None, toolController=None):
-        self._requested_tc = toolController
-        self.active_progress = None
-        super().__init__(obj, name, parentJob)
-        self._requested_tc = None
 
     def opFeatures(self, obj):
         return (
@@ -94,18 +88,6 @@ class ObjectZLevelRoughing(PathOp.ObjectOp):
         pocket_glue.add_properties(
             obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
         )
-
-    def isToolSupported(self, obj, tool):
-        requested = getattr(self, "_requested_tc", None)
-        if requested is not None:
-            return tool == requested.Tool
-        return True
-
-    def opSetDefaultValues(self, obj, job):
-        requested = getattr(self, "_requested_tc", None)
-        if requested is not None:
-            obj.ToolController = requested
-            obj.OpToolDiameter = requested.Tool.Diameter
 
     def opUpdateDepths(self, obj):
         # Without Base FreeCAD takes the model's top as the final depth (for

@@ -1,0 +1,66 @@
+"""What every IsoCAM Path operation shares: the error type, reading the picked
+faces, and taking the tool controller that Create() was given.
+
+FreeCAD offers (and, headless, picks) tool controllers through
+``isToolSupported``. While Create() is given an explicit controller, only that
+one qualifies, which avoids FreeCAD's GUI-only choice among several (the
+headless pitfall with two or more tool controllers).
+"""
+
+from freecad_ext.compat import PathOp
+
+
+class IsoCAMError(Exception):
+    """An input the operation cannot be computed with; the message names it."""
+
+
+def picked_faces(obj, what="faces"):
+    """[(model object, [0-based face indices])] from obj.Base, in pick order.
+
+    Raises IsoCAMError for a picked sub-element that is not a face; `what`
+    names what the user should pick instead.
+    """
+    picked = []
+    for base, subs in obj.Base or []:
+        indices = []
+        for sub in subs:
+            if not sub.startswith("Face") or not sub[4:].isdigit():
+                raise IsoCAMError(
+                    "Base %s.%s is not a face; pick %s of the Job's model"
+                    % (base.Label, sub, what)
+                )
+            index = int(sub[4:]) - 1
+            if index not in indices:
+                indices.append(index)
+        if indices:
+            picked.append((base, indices))
+    return picked
+
+
+class IsoCAMOp(PathOp.ObjectOp):
+    """Base of our operation proxies (each lives in an importable module, so
+    saved documents reopen). Subclasses say which tools they accept."""
+
+    def __init__(self, obj, name, parentJob=None, toolController=None):
+        # Read by isToolSupported/opSetDefaultValues while the base class
+        # picks the tool controller; not saved with the document.
+        self._requested_tc = toolController
+        self.active_progress = None
+        super().__init__(obj, name, parentJob)
+        self._requested_tc = None
+
+    def accepts_tool(self, tool):
+        """True if the operation can use `tool` (any tool by default)."""
+        return True
+
+    def isToolSupported(self, obj, tool):
+        requested = getattr(self, "_requested_tc", None)
+        if requested is not None:
+            return tool == requested.Tool
+        return self.accepts_tool(tool)
+
+    def opSetDefaultValues(self, obj, job):
+        requested = getattr(self, "_requested_tc", None)
+        if requested is not None:
+            obj.ToolController = requested
+            obj.OpToolDiameter = requested.Tool.Diameter
