@@ -106,6 +106,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readwrite("max_depth", &IsoParams::max_depth)
       .def_readwrite("gouge_tolerance", &IsoParams::gouge_tolerance)
       .def_readwrite("protect_unpicked_faces", &IsoParams::protect_unpicked_faces)
+      .def_readwrite("threads", &IsoParams::threads)
       .def_readwrite("min_param_gap", &IsoParams::min_param_gap);
 
   py::class_<Progress, std::shared_ptr<Progress>>(

@@ -261,3 +261,30 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 }  // namespace isocam
+
+namespace isocam {
+namespace {
+
+TEST(AdaptiveIsocurve, OneAndManyThreadsGiveTheSamePath) {
+  // shell1: 99 trimmed B-spline faces, computed on 1 and on 4 threads.
+  const TopoDS_Shape s = test::load("shell1.brep");
+  std::vector<int> faces;
+  for (int f = 0; f < 99; ++f) faces.push_back(f);
+  IsoParams p;
+  p.scallop_height = 0.05;
+  p.safe_z = 100;
+  p.threads = 1;
+  const IsoResult one = adaptive_isocurve(s, faces, p);
+  p.threads = 4;
+  const IsoResult four = adaptive_isocurve(s, faces, p);
+  ASSERT_EQ(one.path.size(), four.path.size());
+  EXPECT_EQ(one.path.kind, four.path.kind);
+  EXPECT_EQ(one.path.x, four.path.x);
+  EXPECT_EQ(one.path.y, four.path.y);
+  EXPECT_EQ(one.path.z, four.path.z);
+  EXPECT_EQ(one.metrics.sub_isocurves, four.metrics.sub_isocurves);
+  EXPECT_LT(one.metrics.retracts, one.metrics.sub_isocurves);
+}
+
+}  // namespace
+}  // namespace isocam

@@ -3,7 +3,10 @@
 // model, runs Algorithm 1 (or the uniform baseline) per face and direction,
 // and assembles the path and its certificate.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <thread>
 #include <iterator>
 #include <memory>
 #include <optional>
@@ -42,6 +45,7 @@ void validate(const IsoParams& p) {
   if (!(p.min_param_gap > 0) || !(p.min_param_gap < 1))
     bad("min_param_gap must be in (0, 1) (got " + std::to_string(p.min_param_gap) + ")");
   if (!std::isfinite(p.safe_z)) bad("safe_z must be a finite height");
+  if (p.threads < 0) bad("threads must be >= 0 (0: one per core; got " + std::to_string(p.threads) + ")");
   if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
     bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
 }
@@ -163,16 +167,39 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const double nf = double(faces.size());
   std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
   std::vector<CutPiece> pieces;
-  for (std::size_t k = 0; k < picked.size(); ++k) {
-    const PickedFace& face = model_faces[picked[k]];
-    const int f = face.index;
-    FaceResult best;
-    try {
-      best = best_direction(face, delta_work, params, model,
-                            ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+  // Faces are independent until linking: compute them on several threads
+  // (each face on one thread: its trimmed domain's hatcher is not shared),
+  // then merge in face order, so the result does not depend on the number
+  // of threads.
+  std::vector<FaceResult> done(picked.size());
+  std::vector<std::exception_ptr> failed(picked.size());
+  std::atomic<std::size_t> next{0};
+  auto worker = [&]() {
+    for (std::size_t k = next++; k < picked.size(); k = next++) {
+      const PickedFace& face = model_faces[picked[k]];
+      try {
+        try {
+          done[k] = best_direction(face, delta_work, params, model,
+                                   ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
+        } catch (const Standard_Failure& e) {
+          throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " +
+                              e.GetMessageString());
+        }
+      } catch (...) {
+        failed[k] = std::current_exception();
+      }
     }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t n_threads =
+      std::min<std::size_t>(picked.size(), params.threads > 0 ? std::size_t(params.threads) : hw);
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  for (FaceResult& best : done) {
     result.curves.insert(result.curves.end(), best.coverage.curves.begin(), best.coverage.curves.end());
     result.face_direction.push_back(best.dir);
     result.metrics.sub_isocurves += best.stats.curves;

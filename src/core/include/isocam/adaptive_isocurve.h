@@ -52,6 +52,7 @@ struct IsoParams {
   // of its parameter range as face, which can cut away passes that touch a
   // neighbouring face's edge (see README, Status).
   bool protect_unpicked_faces = false;
+  int threads = 0;                // faces computed in parallel; 0: one per core
   double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
 };
 
