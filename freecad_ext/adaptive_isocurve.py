@@ -31,7 +31,7 @@ import time
 import FreeCAD
 import Path
 
-from freecad_ext import compat
+from freecad_ext import compat, op_base
 from freecad_ext.compat import PathLog, PathOp
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
 
@@ -305,12 +305,7 @@ _ARGUMENT_SOURCES = (
 
 
 def _describe(exc):
-    """The exception's message, plus which FreeCAD input a core argument is."""
-    message = str(exc) or type(exc).__name__
-    sources = [src for arg, src in _ARGUMENT_SOURCES if arg in message]
-    if sources:
-        message += " [set by %s]" % ", ".join(sources)
-    return message
+    return op_base.describe(exc, _ARGUMENT_SOURCES)
 
 
 def _wait(worker, progress):

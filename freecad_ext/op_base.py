@@ -64,3 +64,13 @@ class IsoCAMOp(PathOp.ObjectOp):
         if requested is not None:
             obj.ToolController = requested
             obj.OpToolDiameter = requested.Tool.Diameter
+
+
+def describe(exc, argument_sources):
+    """The exception's message, plus which FreeCAD input a core argument named
+    in it is set by (`argument_sources`: (core argument, FreeCAD input) pairs)."""
+    message = str(exc) or type(exc).__name__
+    sources = [src for arg, src in argument_sources if arg in message]
+    if sources:
+        message += " [set by %s]" % ", ".join(sources)
+    return message

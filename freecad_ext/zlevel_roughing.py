@@ -21,7 +21,7 @@ import FreeCAD
 import Part
 import Path
 
-from freecad_ext import compat, pocket_glue
+from freecad_ext import compat, op_base, pocket_glue
 from freecad_ext.compat import PathLog, PathOp
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp
 
@@ -186,11 +186,7 @@ _ARGUMENT_SOURCES = (
 
 
 def _describe(exc):
-    message = str(exc) or type(exc).__name__
-    sources = [src for arg, src in _ARGUMENT_SOURCES if arg in message]
-    if sources:
-        message += " [set by %s]" % ", ".join(sources)
-    return message
+    return op_base.describe(exc, _ARGUMENT_SOURCES)
 
 
 def SetupProperties():
