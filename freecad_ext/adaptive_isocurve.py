@@ -133,14 +133,7 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
             | PathOp.FeatureCoolant
         )
 
-    def initOperation(self, obj):
-        # `obj` may be a SetupSheet OpPrototype: addProperty, setEditorMode
-        # and attribute assignment are all it supports.
-        _add_properties(obj, set_defaults=True)
-
-    def opOnDocumentRestored(self, obj):
-        # Files written by older versions may lack newer properties; editor
-        # modes are not saved.
+    def add_properties(self, obj):
         _add_properties(obj, set_defaults=True)
 
     def accepts_tool(self, tool):

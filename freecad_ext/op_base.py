@@ -53,6 +53,20 @@ class IsoCAMOp(PathOp.ObjectOp):
         """True if the operation can use `tool` (any tool by default)."""
         return True
 
+    def add_properties(self, obj):
+        """Add the operation's own properties that `obj` does not have yet."""
+        raise NotImplementedError
+
+    def initOperation(self, obj):
+        # `obj` may be a SetupSheet OpPrototype: addProperty, setEditorMode
+        # and attribute assignment are all it supports.
+        self.add_properties(obj)
+
+    def opOnDocumentRestored(self, obj):
+        # Files written by older versions may lack newer properties; editor
+        # modes are not saved.
+        self.add_properties(obj)
+
     def isToolSupported(self, obj, tool):
         requested = getattr(self, "_requested_tc", None)
         if requested is not None:

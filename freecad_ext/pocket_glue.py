@@ -12,7 +12,8 @@ import FreeCAD
 import Path
 
 from freecad_ext import compat, op_base
-from freecad_ext.op_base import IsoCAMError
+from freecad_ext.compat import PathOp
+from freecad_ext.op_base import IsoCAMError, IsoCAMOp
 
 # Move kinds of the core's pocketing arrays (src/core isocam/pocketing.h).
 MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW = 0, 1, 2, 3, 4
@@ -269,3 +270,23 @@ def arrays_from_path(path, start=(0.0, 0.0, 0.0)):
         np.array(pts, dtype=float).reshape(-1, 3),
         np.array(centres, dtype=float).reshape(-1, 2),
     )
+
+
+class PocketOp(IsoCAMOp):
+    """Base of the pocketing operations: FreeCAD's depth features, and the
+    subclass's INPUTS plus the shared certificate OUTPUTS as properties."""
+
+    INPUTS = ()
+
+    def opFeatures(self, obj):
+        return (
+            PathOp.FeatureTool
+            | PathOp.FeatureDepths
+            | PathOp.FeatureHeights
+            | PathOp.FeatureStepDown
+            | PathOp.FeatureBaseFaces
+            | PathOp.FeatureCoolant
+        )
+
+    def add_properties(self, obj):
+        add_properties(obj, self.INPUTS, OUTPUTS, OUTPUT_GROUP, True)

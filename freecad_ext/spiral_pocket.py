@@ -26,8 +26,8 @@ import FreeCAD
 import Path
 
 from freecad_ext import compat, op_base, pocket_glue
-from freecad_ext.compat import PathLog, PathOp
-from freecad_ext.op_base import IsoCAMError, IsoCAMOp
+from freecad_ext.compat import PathLog
+from freecad_ext.op_base import IsoCAMError
 
 __title__ = "IsoCAM Spiral Pocket operation"
 
@@ -73,30 +73,12 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
-class ObjectSpiralPocket(IsoCAMOp):
+class ObjectSpiralPocket(pocket_glue.PocketOp):
     """Proxy of a Spiral Pocket operation (module-level so documents reopen)."""
 
+    INPUTS = _INPUTS
+
     # -- PathOp hooks -------------------------------------------------------
-
-    def opFeatures(self, obj):
-        return (
-            PathOp.FeatureTool
-            | PathOp.FeatureDepths
-            | PathOp.FeatureHeights
-            | PathOp.FeatureStepDown
-            | PathOp.FeatureBaseFaces
-            | PathOp.FeatureCoolant
-        )
-
-    def initOperation(self, obj):
-        pocket_glue.add_properties(
-            obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
-        )
-
-    def opOnDocumentRestored(self, obj):
-        pocket_glue.add_properties(
-            obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
-        )
 
     def opExecute(self, obj):
         started = time.monotonic()

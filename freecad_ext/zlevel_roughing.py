@@ -22,8 +22,8 @@ import Part
 import Path
 
 from freecad_ext import compat, op_base, pocket_glue
-from freecad_ext.compat import PathLog, PathOp
-from freecad_ext.op_base import IsoCAMError, IsoCAMOp
+from freecad_ext.compat import PathLog
+from freecad_ext.op_base import IsoCAMError
 
 __title__ = "IsoCAM Z-level Roughing operation"
 
@@ -66,28 +66,10 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
-class ObjectZLevelRoughing(IsoCAMOp):
+class ObjectZLevelRoughing(pocket_glue.PocketOp):
     """Proxy of a Z-level Roughing operation."""
 
-    def opFeatures(self, obj):
-        return (
-            PathOp.FeatureTool
-            | PathOp.FeatureDepths
-            | PathOp.FeatureHeights
-            | PathOp.FeatureStepDown
-            | PathOp.FeatureBaseFaces
-            | PathOp.FeatureCoolant
-        )
-
-    def initOperation(self, obj):
-        pocket_glue.add_properties(
-            obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
-        )
-
-    def opOnDocumentRestored(self, obj):
-        pocket_glue.add_properties(
-            obj, _INPUTS, _OUTPUTS, pocket_glue.OUTPUT_GROUP, True
-        )
+    INPUTS = _INPUTS
 
     def opUpdateDepths(self, obj):
         # Without Base FreeCAD takes the model's top as the final depth (for
