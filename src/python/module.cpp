@@ -94,6 +94,9 @@ PYBIND11_MODULE(isocam_core, m) {
   py::enum_<IsoPattern>(m, "IsoPattern")
       .value("Adaptive", IsoPattern::Adaptive)
       .value("Uniform", IsoPattern::Uniform);
+  py::enum_<IsoScallopBound>(m, "IsoScallopBound")
+      .value("Flat", IsoScallopBound::Flat)
+      .value("Curvature", IsoScallopBound::Curvature);
 
   py::class_<IsoParams>(m, "IsoParams", "Parameters of adaptive isocurve finishing (mm)")
       .def(py::init<>())
@@ -102,6 +105,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readwrite("chord_tolerance", &IsoParams::chord_tolerance)
       .def_readwrite("direction", &IsoParams::direction)
       .def_readwrite("pattern", &IsoParams::pattern)
+      .def_readwrite("scallop_bound", &IsoParams::scallop_bound)
       .def_readwrite("safe_z", &IsoParams::safe_z)
       .def_readwrite("max_depth", &IsoParams::max_depth)
       .def_readwrite("gouge_tolerance", &IsoParams::gouge_tolerance)
@@ -118,6 +122,7 @@ PYBIND11_MODULE(isocam_core, m) {
 
   py::class_<IsoMetrics>(m, "IsoMetrics")
       .def_readonly("delta", &IsoMetrics::delta)
+      .def_readonly("delta_max", &IsoMetrics::delta_max)
       .def_readonly("cutting_length", &IsoMetrics::cutting_length)
       .def_readonly("rapid_length", &IsoMetrics::rapid_length)
       .def_readonly("plunge_length", &IsoMetrics::plunge_length)
@@ -125,7 +130,8 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("retracts", &IsoMetrics::retracts)
       .def_readonly("max_iso_distance", &IsoMetrics::max_iso_distance)
       .def_readonly("guaranteed_scallop", &IsoMetrics::guaranteed_scallop)
-      .def_readonly("unreachable_length", &IsoMetrics::unreachable_length);
+      .def_readonly("unreachable_length", &IsoMetrics::unreachable_length)
+      .def_readonly("lower_bound_length", &IsoMetrics::lower_bound_length);
 
   py::class_<SubIsocurve>(m, "SubIsocurve")
       .def_readonly("face", &SubIsocurve::face)

@@ -13,23 +13,27 @@
 namespace isocam {
 
 // A set of sub-isocurves of one face that is a valid coverage (Definition 1)
-// in the iso-distance sense: adjacent curves are at most delta apart.
+// in the iso-distance sense: adjacent curves are at most delta apart (delta
+// per patch, from the StepoverField).
 struct FaceCoverage {
   std::vector<SubIsocurve> curves;
   double max_iso_distance = 0.0;  // measured over all adjacent pairs
+  double guaranteed_scallop = 0.0;  // the cusp those distances leave (stepover.h)
 };
+
+class StepoverField;
 
 // `grid` is in working orientation: the curves are its iso-v curves (the
 // caller transposes the face's grid for IsoDirection::U). `face` and `dir`
 // only label the result and the errors.
 FaceCoverage adaptive_coverage(const PatchGrid& grid, int face, IsoDirection dir,
-                               double delta, const IsoParams& params,
+                               const StepoverField& field, const IsoParams& params,
                                const ProgressSlice& progress);
 
 // Baseline: complete isocurves equally spaced in parameter, with the fewest
 // curves for which every adjacent pair is at most delta apart.
 FaceCoverage uniform_coverage(const PatchGrid& grid, int face, IsoDirection dir,
-                              double delta, const IsoParams& params,
+                              const StepoverField& field, const IsoParams& params,
                               const ProgressSlice& progress);
 
 struct FacePathStats {

@@ -16,6 +16,7 @@
 #include <Standard_Failure.hxx>
 
 #include "finishing/coverage.h"
+#include "finishing/stepover.h"
 #include "geometry/trim_domain.h"
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -57,6 +58,8 @@ struct FaceResult {
   FaceCoverage coverage;
   IsoDirection dir = IsoDirection::V;
   FacePathStats stats;
+  double lower_bound = 0.0;  // L* of the face
+  double delta_max = 0.0;    // the largest iso-distance tolerance of the face
 };
 
 // The coverage's curves clipped to the face's trimmed domain (Elber &
@@ -75,16 +78,17 @@ std::vector<SubIsocurve> clip_to_face(const std::vector<SubIsocurve>& curves,
   return out;
 }
 
-FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, double delta,
-                             const IsoParams& p, const ClearanceModel& model,
-                             const ProgressSlice& progress) {
+FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const IsoParams& p,
+                             const ClearanceModel& model, const ProgressSlice& progress) {
   FaceResult r;
   r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
                                                                      : face.grid);
   r.dir = dir;
+  const StepoverField field(*r.grid, p);
+  r.delta_max = field.max_delta();
   r.coverage = p.pattern == IsoPattern::Uniform
-                   ? uniform_coverage(*r.grid, face.index, dir, delta, p, progress)
-                   : adaptive_coverage(*r.grid, face.index, dir, delta, p, progress);
+                   ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
+                   : adaptive_coverage(*r.grid, face.index, dir, field, p, progress);
   r.coverage.curves = clip_to_face(r.coverage.curves, *face.trim);
   r.pieces = face_pieces(*r.grid, r.coverage.curves, p, model, &r.stats);
   for (const CutPiece& c : r.pieces) r.cut_length += c.length();
@@ -93,17 +97,19 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, double de
 
 // The requested direction, or for Auto the one with the shorter cutting
 // length (the pieces; the links come later, across faces).
-FaceResult best_direction(const PickedFace& face, double delta, const IsoParams& params,
+FaceResult best_direction(const PickedFace& face, const IsoParams& params,
                           const ClearanceModel& model, const ProgressSlice& progress) {
   std::vector<IsoDirection> dirs{params.direction};
   if (params.direction == IsoDirection::Auto) dirs = {IsoDirection::V, IsoDirection::U};
   FaceResult best;
   const double n = double(dirs.size());
   for (std::size_t di = 0; di < dirs.size(); ++di) {
-    FaceResult r = face_in_direction(face, dirs[di], delta, params, model,
+    FaceResult r = face_in_direction(face, dirs[di], params, model,
                                      progress.sub(double(di) / n, double(di + 1) / n));
     if (di == 0 || r.cut_length < best.cut_length) best = std::move(r);
   }
+  best.lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
+                                        params.scallop_height);
   return best;
 }
 
@@ -129,9 +135,6 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
   check_faces(faces, all.size());
   const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
-  // Algorithm 1 runs a hair inside delta so that rounding (and the 1e-9
-  // tangential slack of the root finder) never lets a pair exceed delta.
-  const double delta_work = delta * (1.0 - 4e-9);
   IsoResult result;
   result.metrics.delta = delta;
   // Every picked face gets its grid and trimmed domain and is kept clear of
@@ -163,7 +166,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     if (at != faces.end()) picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
   }
   model.build();
-  double max_dist = 0.0;
+  double max_dist = 0.0, max_scallop = 0.0;
   const double nf = double(faces.size());
   std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
   std::vector<CutPiece> pieces;
@@ -179,7 +182,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
       const PickedFace& face = model_faces[picked[k]];
       try {
         try {
-          done[k] = best_direction(face, delta_work, params, model,
+          done[k] = best_direction(face, params, model,
                                    ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
         } catch (const Standard_Failure& e) {
           throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " +
@@ -205,6 +208,9 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     result.metrics.sub_isocurves += best.stats.curves;
     result.metrics.unreachable_length += best.stats.unreachable_length;
     max_dist = std::max(max_dist, best.coverage.max_iso_distance);
+    max_scallop = std::max(max_scallop, best.coverage.guaranteed_scallop);
+    result.metrics.lower_bound_length += best.lower_bound;
+    result.metrics.delta_max = std::max(result.metrics.delta_max, best.delta_max);
     working.push_back(best.grid);
     std::move(best.pieces.begin(), best.pieces.end(), std::back_inserter(pieces));
   }
@@ -223,7 +229,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   result.metrics.plunge_length = len.plunge;
   result.metrics.retracts = len.retracts;
   result.metrics.max_iso_distance = max_dist;
-  result.metrics.guaranteed_scallop = scallop_for_stepover(params.ball_radius, max_dist);
+  result.metrics.guaranteed_scallop = max_scallop;
   return result;
 }
 

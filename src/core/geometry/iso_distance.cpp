@@ -65,9 +65,15 @@ std::vector<IsoDistancePiece> iso_distance_squared(const PiecewiseBezier& c1,
 
 std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
                                 double delta) {
+  return exceeding(pieces, std::vector<double>(pieces.size(), delta));
+}
+
+std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
+                                const std::vector<double>& deltas) {
   std::vector<Interval> out;
-  const double d2 = delta * delta;
-  for (const IsoDistancePiece& p : pieces) {
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const IsoDistancePiece& p = pieces[k];
+    const double d2 = deltas[k] * deltas[k];
     const Bernstein f = p.num - d2 * p.den;
     const double slack = 1e-9 * d2 * p.den.max_coeff();
     for (const Interval& iv : positive_intervals(f, 1e-10, slack)) {

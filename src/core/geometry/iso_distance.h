@@ -28,6 +28,9 @@ std::vector<IsoDistancePiece> iso_distance_squared(const PiecewiseBezier& c1,
 // their ends). A tangential excess smaller than 1e-9 delta^2 is ignored.
 std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
                                 double delta);
+// The same with a tolerance per piece (deltas[k] for pieces[k]).
+std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
+                                const std::vector<double>& deltas);
 
 // max of Delta over the pieces (an upper bound within 1e-9 relative).
 double max_iso_distance(const std::vector<IsoDistancePiece>& pieces);

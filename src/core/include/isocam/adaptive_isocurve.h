@@ -4,8 +4,13 @@
 //
 // Contract: for every picked face, adjacent (sub-)isocurves of the returned
 // coverage are never farther apart than delta (the iso-distance of
-// Definition 4), where delta is the stepover that gives the requested scallop
-// height on flat ground: r - sqrt(r^2 - (delta/2)^2) = h. The ball centre is
+// Definition 4). With the flat bound (the paper's) delta is the stepover that
+// gives the requested scallop height on flat ground:
+// r - sqrt(r^2 - (delta/2)^2) = h. With the curvature-aware bound (the
+// default) delta varies per Bezier patch with the normal curvature across the
+// feed, so that the scallop stays under h on convex ground too (where the flat
+// delta leaves a higher cusp) and concave ground is not over-cut; see
+// finishing/stepover.h. The ball centre is
 // driven on the exact offset S + r N (N pointing away from the material, as
 // the face orientation says), each sub-isocurve linearised within the chord
 // tolerance, and the path is returned in tool-tip coordinates. No gouge is
@@ -38,12 +43,18 @@ enum class IsoPattern {
   Uniform,   // baseline: complete isocurves equally spaced in parameter
 };
 
+enum class IsoScallopBound {
+  Flat,       // the paper's: delta for flat ground everywhere
+  Curvature,  // delta per patch from the curvature across the feed
+};
+
 struct IsoParams {
   double ball_radius = 3.0;       // mm, > 0
   double scallop_height = 0.01;   // mm, 0 < h < ball_radius
   double chord_tolerance = 0.01;  // mm, > 0
   IsoDirection direction = IsoDirection::Auto;
   IsoPattern pattern = IsoPattern::Adaptive;
+  IsoScallopBound scallop_bound = IsoScallopBound::Curvature;
   double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
   double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
@@ -69,14 +80,26 @@ struct SubIsocurve {
 };
 
 struct IsoMetrics {
-  double delta = 0.0;             // the iso-distance tolerance used
+  double delta = 0.0;             // the flat-ground iso-distance tolerance
+  // The largest tolerance used on any patch (the curvature bound allows up
+  // to 2 delta on concave ground, less than delta on convex ground): the
+  // delta of Definition 1 that the coverage meets everywhere.
+  double delta_max = 0.0;
   double cutting_length = 0.0;    // feed moves (mm)
   double rapid_length = 0.0;      // rapid moves (mm)
   double plunge_length = 0.0;     // plunges from the safe height (mm)
   int sub_isocurves = 0;
   int retracts = 0;
   double max_iso_distance = 0.0;  // largest iso-distance left between adjacent curves
-  double guaranteed_scallop = 0.0;  // flat-ground scallop for max_iso_distance
+  // The scallop height the coverage guarantees: over every accepted pair of
+  // adjacent curves, the cusp left by its largest iso-distance on ground of
+  // the largest curvature across the feed there (sampled per patch, see
+  // finishing/stepover.h). With the flat bound it can exceed the requested
+  // height on convex ground; with the curvature bound it does not.
+  double guaranteed_scallop = 0.0;
+  // L* = integral over the picked faces (inside their wires) of dA / w_max:
+  // a lower bound on the cutting length of any path with that scallop.
+  double lower_bound_length = 0.0;
   // Length of ball-centre path left out because the ball cannot follow the
   // offset there without coming closer than r - chord_tolerance -
   // gouge_tolerance to a face (a concave region tighter than the ball):

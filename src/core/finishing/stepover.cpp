@@ -1,0 +1,134 @@
+#include "finishing/stepover.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/curvature.h"
+
+namespace isocam {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Half the angle phi between the contact normals, or a negative value where
+// the ball leaves no cusp.
+double half_angle(double r, double h, double kappa) {
+  const double den = 4.0 * (1.0 + r * kappa) * (1.0 + h * kappa);
+  if (!(den > 0)) return -1.0;
+  const double q = (2.0 * r * h - h * h) / den;  // the flat (w/4)^2 as kappa -> 0
+  const double x = std::abs(kappa) * std::sqrt(q);
+  if (x >= 1.0) return -1.0;
+  return std::asin(x);  // phi / 2
+}
+
+// Samples of the patch interior at which curvatures are taken.
+constexpr double kSample[4] = {0.125, 0.375, 0.625, 0.875};
+
+}  // namespace
+
+double stepover_arc(double r, double h, double kappa) {
+  const double a = half_angle(r, h, kappa);
+  if (a < 0) return kInf;
+  if (std::abs(kappa) < 1e-12) return 2.0 * std::sqrt(2.0 * r * h - h * h);
+  return 4.0 * a / std::abs(kappa);  // w = rho phi_full = 2 rho phi
+}
+
+double stepover_chord(double r, double h, double kappa) {
+  const double a = half_angle(r, h, kappa);
+  if (a < 0) return kInf;
+  if (std::abs(kappa) < 1e-12) return 2.0 * std::sqrt(2.0 * r * h - h * h);
+  return 2.0 * std::sin(2.0 * a) / std::abs(kappa);  // chord 2 rho sin(phi)
+}
+
+double scallop_for_chord(double r, double c, double kappa) {
+  if (!(c > 0)) return 0.0;
+  // stepover_chord grows with h (until the balls stop meeting): bisect.
+  double lo = 0.0, hi = r;
+  if (stepover_chord(r, hi * (1 - 1e-12), kappa) < c) return r;
+  for (int it = 0; it < 200 && hi - lo > 1e-13 * r; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (stepover_chord(r, mid, kappa) < c ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p)
+    : g_(g), r_(p.ball_radius),
+      flat_(2.0 * std::sqrt(2.0 * p.ball_radius * p.scallop_height -
+                            p.scallop_height * p.scallop_height)),
+      nu_(g.patches_u()) {
+  const std::size_t n = static_cast<std::size_t>(g.patches_u() * g.patches_v());
+  kappa_.assign(n, 0.0);
+  delta_.assign(n, flat_);
+  for (int j = 0; j < g.patches_v(); ++j)
+    for (int i = 0; i < g.patches_u(); ++i) {
+      double lo = kInf, hi = -kInf;
+      for (double s : kSample)
+        for (double t : kSample) {
+          const CurvatureSample c = curvature_at(g, i, j, s, t);
+          if (!c.ok) continue;
+          lo = std::min(lo, c.k_cross);
+          hi = std::max(hi, c.k_cross);
+        }
+      const std::size_t k = static_cast<std::size_t>(j * nu_ + i);
+      kappa_[k] = hi >= lo ? hi + 0.25 * (hi - lo) : 0.0;
+      if (p.scallop_bound == IsoScallopBound::Curvature) {
+        // Concave ground would allow a wider step; take at most twice the
+        // flat one, which also bounds the step where the ball cannot reach.
+        delta_[k] = std::min(2.0 * flat_, stepover_chord(r_, p.scallop_height, kappa_[k]));
+      }
+    }
+}
+
+template <class F>
+void StepoverField::rows(double v1, double v2, F f) const {
+  const auto& vb = g_.vbreaks();
+  const int j0 = std::clamp(static_cast<int>(std::upper_bound(vb.begin(), vb.end(), v1) - vb.begin()) - 1,
+                            0, g_.patches_v() - 1);
+  for (int j = j0; j < g_.patches_v(); ++j) {
+    if (j > j0 && vb[static_cast<std::size_t>(j)] >= v2) break;
+    f(static_cast<std::size_t>(j * nu_));
+  }
+}
+
+double StepoverField::delta(int i, double v1, double v2) const {
+  double d = kInf;
+  rows(v1, v2, [&](std::size_t row) { d = std::min(d, delta_[row + static_cast<std::size_t>(i)]); });
+  return d;
+}
+
+double StepoverField::max_delta() const {
+  return delta_.empty() ? flat_ : *std::max_element(delta_.begin(), delta_.end());
+}
+
+double StepoverField::scallop(int i, double v1, double v2, double c) const {
+  double h = 0.0;
+  rows(v1, v2, [&](std::size_t row) {
+    h = std::max(h, scallop_for_chord(r_, c, kappa_[row + static_cast<std::size_t>(i)]));
+  });
+  return h;
+}
+
+double lower_bound_length(const PatchGrid& g, const TrimDomain* trim, double r, double h) {
+  const auto& ub = g.ubreaks();
+  const auto& vb = g.vbreaks();
+  double sum = 0.0;
+  for (int j = 0; j < g.patches_v(); ++j)
+    for (int i = 0; i < g.patches_u(); ++i) {
+      const double du = ub[static_cast<std::size_t>(i) + 1] - ub[static_cast<std::size_t>(i)];
+      const double dv = vb[static_cast<std::size_t>(j) + 1] - vb[static_cast<std::size_t>(j)];
+      for (double s : kSample)
+        for (double t : kSample) {
+          if (trim && !trim->contains(ub[static_cast<std::size_t>(i)] + du * s,
+                                      vb[static_cast<std::size_t>(j)] + dv * t))
+            continue;
+          const CurvatureSample c = curvature_at(g, i, j, s, t);
+          const double w = stepover_arc(r, h, c.k_min);
+          if (std::isfinite(w)) sum += c.area * du * dv / 16.0 / w;
+        }
+    }
+  return sum;
+}
+
+}  // namespace isocam
