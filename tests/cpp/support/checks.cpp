@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include <BRepClass_FaceClassifier.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
 #include <Bnd_Box.hxx>
+#include <BRepBndLib.hxx>
 #include <ShapeAnalysis_Surface.hxx>
 #include <TopoDS.hxx>
 #include <gp_Pnt2d.hxx>
@@ -15,6 +17,7 @@
 #include <gp_Vec.hxx>
 
 #include "geometry/patch_grid.h"
+#include "isocam/brep_io.h"
 
 namespace isocam::test {
 
@@ -125,38 +128,69 @@ bool in_face(const TopoDS_Face& face, const gp_Pnt& p, double tol) {
   return c.State() == TopAbs_IN || c.State() == TopAbs_ON;
 }
 
-std::int64_t FaceCloud::key(long i, long j, long k) const {
+std::int64_t ModelCloud::key(long i, long j, long k) const {
   return (static_cast<std::int64_t>(i) * 73856093) ^ (static_cast<std::int64_t>(j) * 19349663) ^
          (static_cast<std::int64_t>(k) * 83492791);
 }
 
-FaceCloud::FaceCloud(const TopoDS_Face& face, int n) : surf_(BRep_Tool::Surface(face)) {
-  BRepTools::UVBounds(face, u1_, u2_, v1_, v2_);
-  du_ = (u2_ - u1_) / n;
-  dv_ = (v2_ - v1_) / n;
-  Bnd_Box box;
+ModelCloud::ModelCloud(const std::vector<TopoDS_Face>& faces, int n, bool trimmed) {
+  for (const TopoDS_Face& f : faces) add_face(f, n, trimmed);
+  index();
+}
+
+ModelCloud::ModelCloud(const std::vector<TopoDS_Face>& faces, double spacing, bool trimmed) {
+  for (const TopoDS_Face& f : faces) {
+    Bnd_Box b;
+    BRepBndLib::Add(f, b);
+    double x0, y0, z0, x1, y1, z1;
+    b.Get(x0, y0, z0, x1, y1, z1);
+    const double side = std::max({x1 - x0, y1 - y0, z1 - z0});
+    add_face(f, std::clamp(static_cast<int>(std::ceil(side / spacing)), 8, 600), trimmed);
+  }
+  index();
+}
+
+void ModelCloud::add_face(const TopoDS_Face& face, int n, bool trimmed) {
+  Surface s;
+  s.surf = BRep_Tool::Surface(face);
+  BRepTools::UVBounds(face, s.u1, s.u2, s.v1, s.v2);
+  s.du = (s.u2 - s.u1) / n;
+  s.dv = (s.v2 - s.v1) / n;
+  const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+  const BRepTopAdaptor_FClass2d inside(fwd, 1e-7);
+  const int f = static_cast<int>(surfs_.size());
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
-      const double u = u1_ + du_ * i, v = v1_ + dv_ * j;
-      pts_.push_back(surf_->Value(u, v));
-      uv_.emplace_back(u, v);
-      box.Add(pts_.back());
+      const double u = s.u1 + s.du * i, v = s.v1 + s.dv * j;
+      if (trimmed) {
+        const TopAbs_State st = inside.Perform(gp_Pnt2d(u, v));
+        if (st != TopAbs_IN && st != TopAbs_ON) continue;
+      }
+      pts_.push_back({s.surf->Value(u, v), f, u, v});
     }
-  cell_ = std::sqrt(box.SquareExtent()) / 50.0;
+  surfs_.push_back(s);
+}
+
+void ModelCloud::index() {
+  if (pts_.empty()) return;
+  Bnd_Box box;
+  for (const Sample& q : pts_) box.Add(q.p);
+  cell_ = std::max(1e-6, std::sqrt(box.SquareExtent()) / 50.0);
   for (std::size_t k = 0; k < pts_.size(); ++k) {
-    const gp_Pnt& p = pts_[k];
+    const gp_Pnt& p = pts_[k].p;
     grid_[key(static_cast<long>(std::floor(p.X() / cell_)), static_cast<long>(std::floor(p.Y() / cell_)),
               static_cast<long>(std::floor(p.Z() / cell_)))]
         .push_back(k);
   }
 }
 
-double FaceCloud::distance(const gp_Pnt& p) const {
+ModelCloud::Hit ModelCloud::nearest(const gp_Pnt& p, const std::vector<char>* only) const {
   // Nearest sample by growing shells of cells, then a local projection.
   const long ci = static_cast<long>(std::floor(p.X() / cell_));
   const long cj = static_cast<long>(std::floor(p.Y() / cell_));
   const long ck = static_cast<long>(std::floor(p.Z() / cell_));
-  double best = 1e300;
+  Hit hit;
+  if (pts_.empty()) return hit;
   std::size_t arg = 0;
   for (long reach = 0; reach < 200; ++reach) {
     for (long i = ci - reach; i <= ci + reach; ++i)
@@ -166,20 +200,52 @@ double FaceCloud::distance(const gp_Pnt& p) const {
           auto it = grid_.find(key(i, j, k));
           if (it == grid_.end()) continue;
           for (std::size_t id : it->second) {
-            const double d = p.Distance(pts_[id]);
-            if (d < best) {
-              best = d;
+            if (only && !(*only)[static_cast<std::size_t>(pts_[id].face)]) continue;
+            const double d = p.Distance(pts_[id].p);
+            if (d < hit.distance) {
+              hit.distance = d;
               arg = id;
             }
           }
         }
-    if (best < static_cast<double>(reach) * cell_) break;  // farther shells are farther
+    if (hit.distance < static_cast<double>(reach) * cell_) break;  // farther shells are farther
   }
-  const auto [u, v] = uv_[arg];
-  GeomAPI_ProjectPointOnSurf proj(p, surf_, std::max(u1_, u - 2 * du_), std::min(u2_, u + 2 * du_),
-                                  std::max(v1_, v - 2 * dv_), std::min(v2_, v + 2 * dv_),
-                                  Extrema_ExtAlgo_Grad);
-  return proj.NbPoints() > 0 ? std::min(best, proj.LowerDistance()) : best;
+  const Sample& q = pts_[arg];
+  const Surface& s = surfs_[static_cast<std::size_t>(q.face)];
+  hit.point = q.p;
+  hit.face = q.face;
+  // Local projection: Newton on |S(u, v) - p|^2 from the sample, kept in a
+  // window of two cells around it (Gauss-Newton where the Hessian is not
+  // positive, as behind a surface that curves tighter than the distance).
+  double u = q.u, v = q.v;
+  const double ulo = std::max(s.u1, q.u - 2 * s.du), uhi = std::min(s.u2, q.u + 2 * s.du);
+  const double vlo = std::max(s.v1, q.v - 2 * s.dv), vhi = std::min(s.v2, q.v + 2 * s.dv);
+  for (int it = 0; it < 12; ++it) {
+    gp_Pnt x;
+    gp_Vec su, sv, suu, svv, suv;
+    s.surf->D2(u, v, x, su, sv, suu, svv, suv);
+    const gp_Vec d(p, x);
+    const double dist = d.Magnitude();
+    if (dist < hit.distance) {
+      hit.distance = dist;
+      hit.point = x;
+    }
+    const double gu = su.Dot(d), gv = sv.Dot(d);
+    double a11 = su.Dot(su) + suu.Dot(d), a12 = su.Dot(sv) + suv.Dot(d), a22 = sv.Dot(sv) + svv.Dot(d);
+    if (!(a11 > 0 && a11 * a22 - a12 * a12 > 0)) {
+      a11 = su.Dot(su);
+      a12 = su.Dot(sv);
+      a22 = sv.Dot(sv);
+    }
+    const double det = a11 * a22 - a12 * a12;
+    if (!(det > 0)) break;
+    const double stepu = (a22 * gu - a12 * gv) / det, stepv = (a11 * gv - a12 * gu) / det;
+    const double nu = std::clamp(u - stepu, ulo, uhi), nv = std::clamp(v - stepv, vlo, vhi);
+    if (std::abs(nu - u) < 1e-12 * (s.u2 - s.u1 + 1) && std::abs(nv - v) < 1e-12 * (s.v2 - s.v1 + 1)) break;
+    u = nu;
+    v = nv;
+  }
+  return hit;
 }
 
 double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r, int checks) {
@@ -195,6 +261,147 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
   double best = 1e300;
   for (std::size_t i = 0; i < centres.size(); i += stride) best = std::min(best, face.distance(centres[i]));
   return best;
+}
+
+WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<int>& picked,
+                                  const Toolpath& path, double r, double step, int n,
+                                  double reach_tol, double gap_cap) {
+  const std::vector<TopoDS_Face> all = faces_of(shape);
+  std::vector<TopoDS_Face> mine;
+  std::vector<char> is_picked(all.size(), 0);
+  for (int f : picked) {
+    mine.push_back(all.at(static_cast<std::size_t>(f)));
+    is_picked[static_cast<std::size_t>(f)] = 1;
+  }
+  const ModelCloud model(all, r / 4, true);
+  WholeModelCheck out;
+  // Ball centres along the feed moves, and their contact points, as runs.
+  SegmentIndex contacts(gap_cap);
+  std::vector<gp_Pnt> run;
+  auto flush = [&]() {
+    contacts.add_polyline(run);
+    run.clear();
+  };
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    if (path.kind[i] != static_cast<std::uint8_t>(MoveKind::Feed)) {
+      flush();
+      continue;
+    }
+    const gp_Pnt a(path.x[i - 1], path.y[i - 1], path.z[i - 1] + r);
+    const gp_Pnt b(path.x[i], path.y[i], path.z[i] + r);
+    const int k = std::max(1, static_cast<int>(std::ceil(a.Distance(b) / step)));
+    for (int s = run.empty() ? 0 : 1; s <= k; ++s) {
+      const gp_Pnt c(a.XYZ() + (b.XYZ() - a.XYZ()) * (double(s) / k));
+      out.min_clearance = std::min(out.min_clearance, model.distance(c));
+      const ModelCloud::Hit h = model.nearest(c, &is_picked);
+      // A contact farther than r (+ slack) is not a contact: the centre is
+      // on a link between faces, not on a face's offset.
+      if (h.distance > r + 10 * step) {
+        flush();
+        continue;
+      }
+      if (!run.empty() && run.back().Distance(h.point) > 4 * step + 0.5 * gap_cap) flush();
+      run.push_back(h.point);
+    }
+  }
+  flush();
+  for (const TopoDS_Face& face : mine) {
+    Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
+    const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
+    const BRepTopAdaptor_FClass2d classifier(fwd, 1e-9);
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    double u1, u2, v1, v2;
+    BRepTools::UVBounds(face, u1, u2, v1, v2);
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        const double u = u1 + (u2 - u1) * i / n, v = v1 + (v2 - v1) * j / n;
+        if (classifier.Perform(gp_Pnt2d(u, v)) != TopAbs_IN) continue;
+        gp_Pnt p;
+        gp_Vec su, sv;
+        surf->D1(u, v, p, su, sv);
+        gp_Vec nrm = su.Crossed(sv);
+        if (nrm.Magnitude() < 1e-12) continue;  // a pole: its neighbours are sampled
+        nrm.Normalize();
+        if (reversed) nrm.Reverse();
+        ++out.samples;
+        if (model.distance(p.Translated(nrm * r)) < r - reach_tol) {
+          ++out.unreachable;
+          continue;
+        }
+        const double gap = contacts.distance(p, gap_cap);
+        if (gap > out.max_gap) {
+          out.max_gap = gap;
+          out.worst = p;
+          out.worst_face = picked[static_cast<std::size_t>(&face - mine.data())];
+        }
+      }
+  }
+  return out;
+}
+
+ScallopCheck measure_scallop(const TopoDS_Face& face, const Toolpath& path, double r, int n,
+                             double step, double cap) {
+  // Ball centres in a hash grid of cell r.
+  std::unordered_map<std::int64_t, std::vector<gp_Pnt>> grid;
+  auto cell = [r](double x) { return static_cast<long>(std::floor(x / r)); };
+  auto key = [](long i, long j, long k) {
+    return (static_cast<std::int64_t>(i) * 73856093) ^ (static_cast<std::int64_t>(j) * 19349663) ^
+           (static_cast<std::int64_t>(k) * 83492791);
+  };
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    if (path.kind[i] != static_cast<std::uint8_t>(MoveKind::Feed)) continue;
+    const gp_Pnt a(path.x[i - 1], path.y[i - 1], path.z[i - 1] + r);
+    const gp_Pnt b(path.x[i], path.y[i], path.z[i] + r);
+    const int k = std::max(1, static_cast<int>(std::ceil(a.Distance(b) / step)));
+    for (int s = 0; s <= k; ++s) {
+      const gp_Pnt c(a.XYZ() + (b.XYZ() - a.XYZ()) * (double(s) / k));
+      grid[key(cell(c.X()), cell(c.Y()), cell(c.Z()))].push_back(c);
+    }
+  }
+  Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
+  const BRepTopAdaptor_FClass2d classifier(TopoDS::Face(face.Oriented(TopAbs_FORWARD)), 1e-9);
+  const bool reversed = face.Orientation() == TopAbs_REVERSED;
+  double u1, u2, v1, v2;
+  BRepTools::UVBounds(face, u1, u2, v1, v2);
+  ScallopCheck out;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double u = u1 + (u2 - u1) * i / n, v = v1 + (v2 - v1) * j / n;
+      if (classifier.Perform(gp_Pnt2d(u, v)) != TopAbs_IN) continue;
+      gp_Pnt p;
+      gp_Vec su, sv;
+      surf->D1(u, v, p, su, sv);
+      gp_Vec nrm = su.Crossed(sv);
+      if (nrm.Magnitude() < 1e-12) continue;
+      nrm.Normalize();
+      if (reversed) nrm.Reverse();
+      ++out.samples;
+      // Balls that the ray can enter below `cap` have centres within r + cap.
+      double best = cap;
+      const gp_Pnt mid = p.Translated(nrm * (0.5 * cap));
+      for (long a = cell(mid.X()) - 2; a <= cell(mid.X()) + 2; ++a)
+        for (long b = cell(mid.Y()) - 2; b <= cell(mid.Y()) + 2; ++b)
+          for (long c = cell(mid.Z()) - 2; c <= cell(mid.Z()) + 2; ++c) {
+            auto it = grid.find(key(a, b, c));
+            if (it == grid.end()) continue;
+            for (const gp_Pnt& q : it->second) {
+              const gp_Vec pc(q, p);  // p - c
+              const double bb = nrm.Dot(pc), cc = pc.SquareMagnitude() - r * r;
+              if (cc <= 0) {
+                best = 0;  // p is inside the ball: cut down to the surface
+                continue;
+              }
+              const double disc = bb * bb - cc;
+              if (bb < 0 && disc >= 0) best = std::min(best, -bb - std::sqrt(disc));
+            }
+          }
+      if (best >= cap) {
+        ++out.uncovered;
+        continue;
+      }
+      out.max = std::max(out.max, best);
+    }
+  return out;
 }
 
 SegmentIndex feed_segments(const Toolpath& path, double cell) {

@@ -50,31 +50,88 @@ double coverage_gap(const TopoDS_Face& face, const SegmentIndex& curves, int n, 
 // trimmed domain, within `tol` of it.
 bool in_face(const TopoDS_Face& face, const gp_Pnt& p, double tol);
 
-// The face as a dense cloud of surface points (n x n over its parameter
-// bounds) for distance queries that do not miss a far part of the face:
-// the nearest sample is refined by a local projection onto the surface, so a
+// Faces as a dense cloud of surface points (n x n over each face's parameter
+// bounds) for distance queries that do not miss a far part of a face: the
+// nearest sample is refined by a local projection onto its surface, so a
 // returned distance is that of a true surface point (an upper bound of the
 // exact distance, equal to it when the cloud is fine enough to land in the
-// right basin, which a spacing well below the ball radius ensures).
-class FaceCloud {
+// right basin, which a spacing well below the ball radius ensures). With
+// `trimmed`, only samples inside each face's wires are kept, so the cloud is
+// the model as the B-rep bounds it, not the untrimmed surfaces.
+class ModelCloud {
  public:
-  FaceCloud(const TopoDS_Face& face, int n);
-  double distance(const gp_Pnt& p) const;
+  ModelCloud(const TopoDS_Face& face, int n) : ModelCloud(std::vector<TopoDS_Face>{face}, n, false) {}
+  ModelCloud(const std::vector<TopoDS_Face>& faces, int n, bool trimmed);
+  // Each face sampled n_f x n_f with n_f from its size: samples about
+  // `spacing` apart along the larger side of its bounding box, n_f <= 600.
+  ModelCloud(const std::vector<TopoDS_Face>& faces, double spacing, bool trimmed);
+  struct Hit {
+    double distance = 1e300;
+    gp_Pnt point;   // the surface point
+    int face = -1;  // its index in the faces given
+  };
+  // With `only`, the nearest point of the faces f with (*only)[f] != 0.
+  Hit nearest(const gp_Pnt& p, const std::vector<char>* only = nullptr) const;
+  double distance(const gp_Pnt& p) const { return nearest(p).distance; }
   double spacing() const { return cell_; }
 
  private:
-  Handle(Geom_Surface) surf_;
-  double u1_, u2_, v1_, v2_, du_, dv_;
-  double cell_;
-  std::vector<gp_Pnt> pts_;
-  std::vector<std::pair<double, double>> uv_;
+  struct Sample {
+    gp_Pnt p;
+    int face;
+    double u, v;
+  };
+  struct Surface {
+    Handle(Geom_Surface) surf;
+    double u1, u2, v1, v2, du, dv;
+  };
+  std::vector<Surface> surfs_;
+  std::vector<Sample> pts_;
+  double cell_ = 1.0;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
   std::int64_t key(long i, long j, long k) const;
+  void add_face(const TopoDS_Face& face, int n, bool trimmed);
+  void index();
 };
+using FaceCloud = ModelCloud;
 
 // Smallest distance from the ball centre to the face, over up to `checks`
 // feed-move end points and midpoints of the path (tip coordinates).
 double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r, int checks);
+
+// A path checked against a whole model, independently of the core (only
+// OpenCASCADE's own surfaces and face classification):
+//  - clearance: every feed move, sampled at `step`, keeps the ball centre
+//    (tip + r z) at a distance from the trimmed model (all its faces);
+//  - coverage (Definition 1): an n x n sampling of each picked face (inside
+//    its wires) against the path's contact points (each sampled centre's
+//    nearest point on the picked faces). A sample where the ball cannot
+//    touch -- its centre p + r N(p) is closer than r - reach_tol to the model
+//    -- is unreachable and counted apart; that is computed here, not taken
+//    from the core.
+struct WholeModelCheck {
+  double min_clearance = 1e300;  // smallest centre distance to the model
+  double max_gap = 0.0;          // largest sample-to-contact distance, reachable samples
+  gp_Pnt worst;                  // the sample where it is
+  int worst_face = -1;           // and its face (index in the shape)
+  int samples = 0, unreachable = 0;
+};
+WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<int>& picked,
+                                  const Toolpath& path, double r, double step, int n,
+                                  double reach_tol, double gap_cap);
+
+// The scallop measured, not inferred: over an n x n sampling of the face
+// (inside its wires), the height above each surface point p, along its
+// normal N (away from the material), at which the ray p + t N first enters
+// one of the balls swept along the feed moves (centres sampled every `step`
+// mm). That height is the material the path leaves at p. Samples no ball
+// reaches within `cap` are counted apart (not in `max`).
+struct ScallopCheck {
+  double max = 0.0;
+  int samples = 0, uncovered = 0;
+};
+ScallopCheck measure_scallop(const TopoDS_Face& face, const Toolpath& path, double r, int n,
+                             double step, double cap);
 
 // The feed moves of a path as segments.
 SegmentIndex feed_segments(const Toolpath& path, double cell);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
@@ -17,6 +18,18 @@ TopoDS_Face face(const TopoDS_Shape& shape, int index);
 // mm in the middle. Smooth (C1) at the patch joints, or with `creased` only
 // C0 there (the normal jumps across the joints).
 TopoDS_Face figure2_ruled_surface(bool creased = false);
+
+// Elber & Cohen's "house on the hill", built in code: a B-spline hill (a
+// 150 x 150 mm bump, a solid 30 mm deep) fused with a 40 x 30 mm house with a
+// gable roof (no overhang: a 3-axis job has no face that looks down) that
+// stands on the slope. The hill's top face gets a hole where
+// the house stands and the walls are trimmed by the hill: several trimmed
+// faces meeting at concave corners (walls and hill) and convex ones (eaves,
+// ridge).
+TopoDS_Shape house_on_the_hill();
+// Its faces a finishing job picks: the hill's top face and the house's
+// faces above the ground (not the block's sides and bottom).
+std::vector<int> house_on_the_hill_picked(const TopoDS_Shape& shape);
 
 // The shape scaled uniformly about the origin.
 TopoDS_Shape scaled(const TopoDS_Shape& shape, double factor);
