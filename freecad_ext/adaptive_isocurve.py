@@ -42,6 +42,15 @@ __title__ = "IsoCAM Adaptive Isocurve operation"
 OP_NAME = "AdaptiveIsocurve"
 
 DIRECTIONS = ("Auto", "U", "V")
+# The pattern: Algorithm 1, or one of the two yardsticks with the same
+# guarantee (complete isocurves equally spaced; planes of constant X or Y).
+PATTERNS = ("Adaptive", "Uniform", "ParallelPlanes")
+SCALLOP_BOUNDS = ("Curvature", "Flat")
+_ENUMERATIONS = {
+    "Direction": DIRECTIONS,
+    "Pattern": PATTERNS,
+    "ScallopBound": SCALLOP_BOUNDS,
+}
 
 # Move kinds of the core's flat toolpath arrays (src/core toolpath.h).
 MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE = 0, 1, 2
@@ -52,9 +61,29 @@ _INPUTS = (
         "App::PropertyLength",
         "ScallopHeight",
         "Adaptive Isocurve",
-        "Largest scallop height left between adjacent passes on flat ground; "
-        "sets the stepover. Must be smaller than the ball radius.",
+        "Largest scallop height left between adjacent passes; sets the "
+        "stepover. Must be smaller than the ball radius.",
         0.01,
+    ),
+    (
+        "App::PropertyEnumeration",
+        "Pattern",
+        "Adaptive Isocurve",
+        "Adaptive: sub-isocurves only where needed (Elber & Cohen, Algorithm 1). "
+        "Uniform: complete isocurves equally spaced in parameter. ParallelPlanes: "
+        "planes of constant X or Y. All three keep the same scallop guarantee "
+        "(the last two are the yardsticks).",
+        "Adaptive",
+    ),
+    (
+        "App::PropertyEnumeration",
+        "ScallopBound",
+        "Adaptive Isocurve",
+        "Curvature: the stepover follows the curvature across the feed, so the "
+        "scallop stays under ScallopHeight on convex ground too. Flat: the "
+        "paper's flat-ground stepover everywhere (higher cusps on convex ground; "
+        "the certificate then says how high).",
+        "Curvature",
     ),
     (
         "App::PropertyEnumeration",
@@ -104,6 +133,13 @@ _OUTPUTS = (
     ),
     (
         "App::PropertyLength",
+        "IsoDistanceToleranceMax",
+        "delta_max",
+        "Largest iso-distance tolerance used on any patch (the curvature bound "
+        "allows more than the flat one on concave ground, less on convex)",
+    ),
+    (
+        "App::PropertyLength",
         "MaxIsoDistance",
         "max_iso_distance",
         "Largest iso-distance left between adjacent isocurves",
@@ -112,7 +148,29 @@ _OUTPUTS = (
         "App::PropertyLength",
         "GuaranteedScallop",
         "guaranteed_scallop",
-        "Flat-ground scallop height of MaxIsoDistance: the certified bound",
+        "The scallop height the path guarantees: the cusp left by the largest "
+        "iso-distance of every pair of adjacent curves, on ground of the "
+        "largest curvature across the feed there",
+    ),
+    (
+        "App::PropertyLength",
+        "LowerBoundLength",
+        "lower_bound_length",
+        "L*: integral over the picked faces of dA / w_max, a lower bound on "
+        "the cutting length of any path with this scallop",
+    ),
+    (
+        "App::PropertyFloat",
+        "LengthRatio",
+        "length_ratio",
+        "CuttingLength / LowerBoundLength (1 would be optimal)",
+    ),
+    (
+        "App::PropertyLength",
+        "UnreachableLength",
+        "unreachable_length",
+        "Length of tool-centre path left out because the ball would come "
+        "closer than its radius to the model there (material is left)",
     ),
     ("App::PropertyString", "DirectionUsed", None, "Isocurve direction used, per face"),
 )
@@ -241,8 +299,8 @@ def _add_properties(obj, set_defaults):
     for prop_type, name, group, tip, default in _INPUTS:
         if not hasattr(obj, name):
             obj.addProperty(prop_type, name, group, tip)
-            if name == "Direction":
-                setattr(obj, name, list(DIRECTIONS))
+            if name in _ENUMERATIONS:
+                setattr(obj, name, list(_ENUMERATIONS[name]))
             if set_defaults:
                 setattr(obj, name, default)
     for prop_type, name, _attr, tip in _OUTPUTS:
@@ -283,6 +341,8 @@ def _iso_params(obj, core, ball_radius):
     params.scallop_height = obj.ScallopHeight.Value
     params.chord_tolerance = obj.ChordTolerance.Value
     params.direction = getattr(core.IsoDirection, obj.Direction)
+    params.pattern = getattr(core.IsoPattern, obj.Pattern)
+    params.scallop_bound = getattr(core.IsoScallopBound, obj.ScallopBound)
     params.safe_z = obj.SafeHeight.Value
     return params
 
@@ -294,6 +354,8 @@ _ARGUMENT_SOURCES = (
     ("safe_z", "property SafeHeight"),
     ("ball_radius", "the tool controller's tool diameter / 2"),
     ("direction", "property Direction"),
+    ("pattern", "property Pattern"),
+    ("scallop_bound", "property ScallopBound"),
 )
 
 
@@ -346,12 +408,20 @@ def _combined_metrics(results):
     """
     first = results[0].metrics
     combined = {"delta": first.delta}
-    for attr in ("cutting_length", "rapid_length", "plunge_length"):
+    for attr in (
+        "cutting_length",
+        "rapid_length",
+        "plunge_length",
+        "lower_bound_length",
+        "unreachable_length",
+    ):
         combined[attr] = sum(getattr(r.metrics, attr) for r in results)
     for attr in ("sub_isocurves", "retracts"):
         combined[attr] = sum(int(getattr(r.metrics, attr)) for r in results)
-    for attr in ("max_iso_distance", "guaranteed_scallop"):
+    for attr in ("max_iso_distance", "guaranteed_scallop", "delta_max"):
         combined[attr] = max(getattr(r.metrics, attr) for r in results)
+    lower = combined["lower_bound_length"]
+    combined["length_ratio"] = combined["cutting_length"] / lower if lower > 0 else 0.0
     return combined
 
 
@@ -374,22 +444,29 @@ def _clear_outputs(obj):
 
 def _print_certificate(obj, m, seconds):
     FreeCAD.Console.PrintMessage(
-        "IsoCAM %s: %d sub-isocurves (direction %s), cutting %.1f mm, "
-        "rapid %.1f mm, plunge %.1f mm, %d retracts; iso-distance bound "
-        "%.4f mm, max iso-distance %.4f mm -> guaranteed scallop %.5f mm "
-        "(requested %.5f mm); %.2f s\n"
+        "IsoCAM %s (%s, %s bound): %d sub-isocurves (direction %s), "
+        "cutting %.1f mm = %.2f x L* (%.1f mm), rapid %.1f mm, plunge %.1f mm, "
+        "%d retracts; iso-distance tolerance %.4f..%.4f mm, max iso-distance "
+        "%.4f mm -> guaranteed scallop %.5f mm (requested %.5f mm); "
+        "unreachable %.1f mm; %.2f s\n"
         % (
             obj.Label,
+            obj.Pattern,
+            obj.ScallopBound,
             m["sub_isocurves"],
             obj.DirectionUsed,
             m["cutting_length"],
+            m["length_ratio"],
+            m["lower_bound_length"],
             m["rapid_length"],
             m["plunge_length"],
             m["retracts"],
             m["delta"],
+            m["delta_max"],
             m["max_iso_distance"],
             m["guaranteed_scallop"],
             obj.ScallopHeight.Value,
+            m["unreachable_length"],
             seconds,
         )
     )
@@ -397,7 +474,7 @@ def _print_certificate(obj, m, seconds):
 
 def SetupProperties():
     """Properties for which a Job's SetupSheet may hold defaults."""
-    return ["ScallopHeight", "Direction", "ChordTolerance"]
+    return ["ScallopHeight", "Direction", "ChordTolerance", "Pattern", "ScallopBound"]
 
 
 def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
