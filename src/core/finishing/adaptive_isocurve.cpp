@@ -57,6 +57,35 @@ void measure_pair(const PatchGrid& g, const StepoverField& field,
   }
 }
 
+// Parts of d (whole parts of u-spans of the grid, clipped to d) where the
+// strip between levels v1 and v2 may be wider than 2 delta along the
+// surface.
+std::vector<Interval> too_wide(const PatchGrid& g, const StepoverField& field, double v1, double v2,
+                               const Interval& d) {
+  std::vector<Interval> out;
+  const auto& br = g.ubreaks();
+  const int parts = PatchGrid::kStripParts;
+  int first = static_cast<int>(std::upper_bound(br.begin(), br.end(), d.lo) - br.begin()) - 1;
+  first = std::clamp(first, 0, g.patches_u() - 1);
+  for (int i = first; i < g.patches_u() && br[static_cast<std::size_t>(i)] < d.hi; ++i) {
+    const double u0 = br[static_cast<std::size_t>(i)], u1 = br[static_cast<std::size_t>(i) + 1];
+    for (int s = 0; s < parts; ++s) {
+      const double w = g.strip_width_bound(i, s, v1, v2);
+      if (w <= 2.0 * kWorkingDelta * field.delta(i, v1, v2)) continue;
+      const Interval iv{std::max(d.lo, u0 + (u1 - u0) * s / parts),
+                        std::min(d.hi, u0 + (u1 - u0) * (s + 1) / parts)};
+      if (!(iv.hi > iv.lo)) continue;
+      if (!out.empty() && iv.lo <= out.back().hi) {
+        out.back().hi = iv.hi;
+      } else {
+        out.push_back(iv);
+      }
+    }
+  }
+  return out;
+}
+
+
 struct Level {
   double v;
   PiecewiseBezier curve;
@@ -99,7 +128,7 @@ class AdaptiveRecursion {
       if (!chord.empty())
         for (std::size_t k = 0; k < pieces.size(); ++k)
           strips = std::max(strips, std::ceil(max_iso_distance({pieces[k]}) / deltas[k]));
-      const std::vector<Interval> wide = too_wide(c1.v, c2.v, d);
+      const std::vector<Interval> wide = too_wide(g_, field_, c1.v, c2.v, d);
       const std::vector<Interval> here = merged(chord, wide);
       for (const Interval& ok : complement(here, d.lo, d.hi)) {
         accept(c1, c2, ok, here.empty() ? &pieces : nullptr);
@@ -130,33 +159,6 @@ class AdaptiveRecursion {
     for (const Interval& e : refine) out_.curves.push_back({face_, dir_, vm, e.lo, e.hi});
     aux(c1, mid, refine, depth + 1);
     aux(mid, c2, refine, depth + 1);
-  }
-
-  // Parts of d (whole parts of u-spans of the grid, clipped to d) where the
-  // strip between levels v1 and v2 may be wider than 2 delta along the
-  // surface.
-  std::vector<Interval> too_wide(double v1, double v2, const Interval& d) const {
-    std::vector<Interval> out;
-    const auto& br = g_.ubreaks();
-    const int parts = PatchGrid::kStripParts;
-    int first = static_cast<int>(std::upper_bound(br.begin(), br.end(), d.lo) - br.begin()) - 1;
-    first = std::clamp(first, 0, g_.patches_u() - 1);
-    for (int i = first; i < g_.patches_u() && br[static_cast<std::size_t>(i)] < d.hi; ++i) {
-      const double u0 = br[static_cast<std::size_t>(i)], u1 = br[static_cast<std::size_t>(i) + 1];
-      for (int s = 0; s < parts; ++s) {
-        const double w = g_.strip_width_bound(i, s, v1, v2);
-        if (w <= 2.0 * kWorkingDelta * field_.delta(i, v1, v2)) continue;
-        const Interval iv{std::max(d.lo, u0 + (u1 - u0) * s / parts),
-                          std::min(d.hi, u0 + (u1 - u0) * (s + 1) / parts)};
-        if (!(iv.hi > iv.lo)) continue;
-        if (!out.empty() && iv.lo <= out.back().hi) {
-          out.back().hi = iv.hi;
-        } else {
-          out.push_back(iv);
-        }
-      }
-    }
-    return out;
   }
 
   // Union of two sorted lists of disjoint intervals.
@@ -210,7 +212,12 @@ bool uniform_ok(const PatchGrid& g, int n, const StepoverField& field, FaceCover
     const double v2 = k == n ? g.vmax() : g.vmin() + k * dv;
     PiecewiseBezier next = g.iso_v(v2);
     const auto pieces = iso_distance_squared(prev, next, g.umin(), g.umax());
-    if (!exceeding(pieces, piece_deltas(g, field, pieces, v1, v2)).empty()) return false;
+    // The iso-distance, and the strip width as Algorithm 1 checks it: two
+    // curves that collapse to one point (the poles of a sphere) are not
+    // within delta of the surface between them.
+    if (!exceeding(pieces, piece_deltas(g, field, pieces, v1, v2)).empty() ||
+        !too_wide(g, field, v1, v2, {g.umin(), g.umax()}).empty())
+      return false;
     measure_pair(g, field, pieces, v1, v2, &m);
     prev = std::move(next);
     v1 = v2;

@@ -153,8 +153,21 @@ class RunSplitter {
     return t_ok;
   }
 
+  // Ends the run at the clear curve point of parameter t. The chord to it
+  // from the run's last point must be clear too: near a violation the curve
+  // bends toward the model, and a chord cuts inside it by up to the chord
+  // tolerance. Where it is not, the end moves back toward the last point.
   void end_at(double t) {
-    if (!cur_.pts.empty() && t != cur_.t.back()) cur_.push(at_(t), t);
+    if (cur_.pts.empty() || t == cur_.t.back()) return;
+    for (int it = 0; it < 40; ++it) {
+      const gp_Pnt p = at_(t);
+      if (model_.clear(cur_.pts.back(), p, clearance_)) {
+        cur_.push(p, t);
+        return;
+      }
+      if (p.Distance(cur_.pts.back()) <= 1e-4 * tol_) return;
+      t = 0.5 * (t + cur_.t.back());
+    }
   }
 
   void flush() {
