@@ -146,9 +146,17 @@ class RunSplitter {
   }
 
   double boundary(double t_ok, double t_bad) const {
-    for (int it = 0; it < 60 && at_(t_ok).Distance(at_(t_bad)) > 1e-4 * tol_; ++it) {
+    gp_Pnt p_ok = at_(t_ok), p_bad = at_(t_bad);
+    for (int it = 0; it < 60 && p_ok.Distance(p_bad) > 1e-4 * tol_; ++it) {
       const double m = 0.5 * (t_ok + t_bad);
-      if (model_.clear(at_(m), clearance_)) t_ok = m; else t_bad = m;
+      const gp_Pnt pm = at_(m);
+      if (model_.clear(pm, clearance_)) {
+        t_ok = m;
+        p_ok = pm;
+      } else {
+        t_bad = m;
+        p_bad = pm;
+      }
     }
     return t_ok;
   }

@@ -54,6 +54,7 @@ class ClearanceModel {
   };
   struct Patch {
     int pu = 0, pv = 0;
+    bool rational = false;  // some weight is not 1
     std::size_t first = 0;  // index of the control net in cps_
     Box box;                // axis-aligned box of the control net
     gp_XYZ axes[3];         // and an oriented one: axes, then bounds along them
@@ -79,8 +80,15 @@ class ClearanceModel {
   std::vector<Node> nodes_;
 };
 
-// Lower bound of the distance between segment [a, b] and an axis box.
+// The distance between segment [a, b] and an axis box (exact).
 double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
                             const double hi[3]);
+// A lower bound of its square (the box of the segment against the box):
+// cheap, and exact for a point.
+double segment_box_bound2(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
+                          const double hi[3]);
+// segment_box_distance(a, b, lo, hi) >= d, trying the cheap bound first.
+bool segment_box_beyond(const gp_Pnt& a, const gp_Pnt& b, const double lo[3], const double hi[3],
+                        double d);
 
 }  // namespace isocam
