@@ -172,12 +172,12 @@ void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
       net.v0 = g.vbreaks()[static_cast<std::size_t>(j)];
       net.v1 = g.vbreaks()[static_cast<std::size_t>(j) + 1];
       std::copy(g.patch(i, j), g.patch(i, j) + n, net.c.begin());
-      add_piece(net, trim);
+      add_piece(net, g, trim);
     }
   }
 }
 
-void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
+void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim) {
   int state = 1;
   if (trim) {
     state = trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
@@ -200,8 +200,8 @@ void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     Net left, right;
     split(net, lu >= lv, left, right);
-    add_piece(left, trim);
-    add_piece(right, trim);
+    add_piece(left, grid, trim);
+    add_piece(right, grid, trim);
     return;
   }
   Patch p;
@@ -214,6 +214,7 @@ void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
   p.state = state;
   for (int k = 0; k < n && !p.rational; ++k) p.rational = net.c[static_cast<std::size_t>(k)].w != 1.0;
   p.trim = state == 0 ? trim : nullptr;
+  p.grid = &grid;
   p.first = cps_.size();
   cps_.insert(cps_.end(), net.c.begin(), net.c.begin() + n);
   p.box = box;
@@ -263,7 +264,7 @@ int ClearanceModel::build_node(int lo, int hi) {
   return id;
 }
 
-bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d) const {
+bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness) const {
   if (nodes_.empty()) return true;
   // Nearest node first: the answer does not depend on the order (any
   // witness makes it false, and the set of pieces that would be examined is
@@ -294,7 +295,7 @@ bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d) const {
         return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
       };
       if (segment_box_beyond(local(a), local(b), p.olo, p.ohi, d)) continue;
-      if (!patch_clear(p, a, b, d)) return false;
+      if (!patch_clear(p, a, b, d, witness)) return false;
     }
   }
   return true;
@@ -355,7 +356,7 @@ double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp
 }  // namespace
 
 bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_Pnt& b,
-                                 double d) const {
+                                 double d, Witness* witness) const {
   const int pu = patch.pu, pv = patch.pv;
   const int n = (pu + 1) * (pv + 1);
   const std::size_t sz = static_cast<std::size_t>(n);
@@ -398,8 +399,10 @@ bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_P
     const double cv[4] = {piece.v0, piece.v0, piece.v1, piece.v1};
     for (int k = 0; k < 4; ++k)
       if (squared_point_segment_distance(corners[k].XYZ(), ax, ab, ab2) < d2 &&
-          (piece.inside || patch.trim->contains(cu[k], cv[k])))
+          (piece.inside || patch.trim->contains(cu[k], cv[k]))) {
+        if (witness) *witness = {patch.grid, cu[k], cv[k]};
         return false;
+      }
     const Obb box(pts.data(), n, corners);
     if (segment_box_beyond(box.local(a), box.local(b), box.lo, box.hi, d)) continue;
     if (box.extent() <= eps_ || piece.depth > 40) continue;  // clear within eps
@@ -432,6 +435,64 @@ bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_P
     w.pieces.push_back(above);
   }
   return true;
+}
+
+double ClearanceModel::local_distance(const gp_Pnt& q, Witness* w) {
+  const PatchGrid& g = *w->grid;
+  // Newton's method on f(u, v) = |S(u, v) - q|^2 / 2 over the grid's
+  // rectangle, second derivatives of S by central differences of the first
+  // (h: far above rounding, far below the curvature's scale); a step that
+  // does not lower f is halved, one that still does not ends the search.
+  const double lo[2] = {g.umin(), g.vmin()}, hi[2] = {g.umax(), g.vmax()};
+  const double h[2] = {1e-5 * (hi[0] - lo[0]), 1e-5 * (hi[1] - lo[1])};
+  double u = std::clamp(w->u, lo[0], hi[0]), v = std::clamp(w->v, lo[1], hi[1]);
+  SurfaceDerivs d = g.d1(u, v);
+  double f = q.SquareDistance(d.p);
+  for (int it = 0; it < 30; ++it) {
+    const double uc = std::clamp(u, lo[0] + h[0], hi[0] - h[0]);
+    const double vc = std::clamp(v, lo[1] + h[1], hi[1] - h[1]);
+    const SurfaceDerivs pu = g.d1(uc + h[0], vc), mu = g.d1(uc - h[0], vc);
+    const SurfaceDerivs pv = g.d1(uc, vc + h[1]), mv = g.d1(uc, vc - h[1]);
+    const gp_Vec suu = (pu.su - mu.su) / (2 * h[0]), svv = (pv.sv - mv.sv) / (2 * h[1]);
+    const gp_Vec suv = 0.5 * ((pu.sv - mu.sv) / (2 * h[0]) + (pv.su - mv.su) / (2 * h[1]));
+    const gp_Vec e(q, d.p);
+    const double gu = e.Dot(d.su), gv = e.Dot(d.sv);
+    const double huu = d.su.Dot(d.su) + e.Dot(suu), hvv = d.sv.Dot(d.sv) + e.Dot(svv);
+    const double huv = d.su.Dot(d.sv) + e.Dot(suv);
+    const double det = huu * hvv - huv * huv;
+    double du, dv;
+    if (huu > 0 && det > 1e-12 * huu * hvv) {
+      du = -(hvv * gu - huv * gv) / det;
+      dv = -(huu * gv - huv * gu) / det;
+    } else {  // not convex here: a gradient step
+      const double n2 = d.su.SquareMagnitude() + d.sv.SquareMagnitude();
+      if (!(n2 > 0)) break;
+      du = -gu / n2;
+      dv = -gv / n2;
+    }
+    double step = 1.0, nu = u, nv = v;
+    SurfaceDerivs nd = d;
+    bool lower = false;
+    for (int k = 0; k < 30 && !lower; ++k, step *= 0.5) {
+      nu = std::clamp(u + step * du, lo[0], hi[0]);
+      nv = std::clamp(v + step * dv, lo[1], hi[1]);
+      nd = g.d1(nu, nv);
+      lower = q.SquareDistance(nd.p) <= f;
+    }
+    if (!lower) break;
+    // The distance is stationary at the minimum: parameters to 1e-10 of
+    // the range put it within rounding.
+    const bool still = std::abs(nu - u) <= 1e-10 * (hi[0] - lo[0]) &&
+                       std::abs(nv - v) <= 1e-10 * (hi[1] - lo[1]);
+    u = nu;
+    v = nv;
+    d = nd;
+    f = q.SquareDistance(d.p);
+    if (still) break;
+  }
+  w->u = u;
+  w->v = v;
+  return std::sqrt(f);
 }
 
 }  // namespace isocam
