@@ -288,3 +288,41 @@ TEST(AdaptiveIsocurve, OneAndManyThreadsGiveTheSamePath) {
 
 }  // namespace
 }  // namespace isocam
+
+namespace isocam {
+namespace {
+
+// Protecting the faces that are not picked must not cut passes that only
+// touch a neighbour's edge: finishing the side of a capped cylinder, the
+// ball passes at exactly r from each cap's boundary circle (the cap counts
+// only inside its wire, exactly), so protecting the caps leaves the path as
+// it is without them.
+// Disabled until pieces of a cap's plane just outside its circle are
+// classified exactly as a whole (today they exhaust the clearance query's
+// budget: about 1000 mm of path cut and 100 s); protect_unpicked_faces stays
+// off by default until this passes.
+TEST(AdaptiveIsocurve, DISABLED_ProtectingTheCapsKeepsThePassesAlongTheirEdges) {
+  const TopoDS_Shape s = BRepPrimAPI_MakeCylinder(15.0, 40.0).Shape();
+  IsoParams p;
+  p.ball_radius = 2.0;
+  p.scallop_height = 0.01;
+  p.safe_z = 100;
+  for (IsoDirection dir : {IsoDirection::U, IsoDirection::V}) {
+    p.direction = dir;
+    p.protect_unpicked_faces = false;
+    const IsoResult alone = adaptive_isocurve(s, {0}, p);
+    p.protect_unpicked_faces = true;
+    const IsoResult guarded = adaptive_isocurve(s, {0}, p);
+    std::cout << "cylinder side, direction " << (dir == IsoDirection::U ? "U" : "V")
+              << ": unreachable " << alone.metrics.unreachable_length << " mm alone, "
+              << guarded.metrics.unreachable_length << " mm with the caps protected; cutting "
+              << alone.metrics.cutting_length << " / " << guarded.metrics.cutting_length << " mm\n";
+    EXPECT_NEAR(guarded.metrics.unreachable_length, alone.metrics.unreachable_length,
+                p.chord_tolerance);
+    EXPECT_NEAR(guarded.metrics.cutting_length, alone.metrics.cutting_length, p.chord_tolerance);
+    EXPECT_EQ(guarded.metrics.sub_isocurves, alone.metrics.sub_isocurves);
+  }
+}
+
+}  // namespace
+}  // namespace isocam
