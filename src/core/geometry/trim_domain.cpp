@@ -255,42 +255,13 @@ bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1, std::vector<I
 }
 
 bool TrimDomain::contains(double u, double v) const {
-  // The quadtree decides a point whose whole uncertainty box (the tabulated
-  // parameter map's margin) lies in decided cells; anything else goes to
-  // the classifier.
-  double lo[2] = {face_approx(0, u), face_approx(1, v)};
-  double hi[2] = {lo[0], lo[1]};
-  for (int d = 0; d < 2; ++d) {
-    lo[d] -= table_margin_[d];
-    hi[d] += table_margin_[d];
-  }
+  // By the quadtree: a point in an undecided cell along the boundary (a cell
+  // 1/512 of the parameter range wide) counts as inside, which errs on the
+  // side of protecting the face.
+  const double p[2] = {face_approx(0, u), face_approx(1, v)};
   const QuadNode& root = quad_[0];
-  if (hi[0] < root.lo[0] || lo[0] > root.hi[0] || hi[1] < root.lo[1] || lo[1] > root.hi[1]) return false;
-  const bool within = lo[0] >= root.lo[0] && hi[0] <= root.hi[0] && lo[1] >= root.lo[1] &&
-                      hi[1] <= root.hi[1];
-  const int s = within ? query_quadtree(0, lo, hi) : 0;
-  if (s != 0) return s > 0;
-  return classify_exact(u, v);
-}
-
-bool TrimDomain::classify_exact(double u, double v) const {
-  // OpenCASCADE's classifier and projector are not documented as safe to
-  // share between threads: all of it under the face's lock (it is reached
-  // only near the wires, and mostly answered from the cache).
-  const std::lock_guard<std::mutex> lock(*cache_lock_);
-  const auto hit = inside_cache_.find({u, v});
-  if (hit != inside_cache_.end()) return hit->second;
-  double f[2];
-  for (int dir = 0; dir < 2; ++dir) {
-    const double g = dir == 0 ? u : v;
-    auto& cache = face_param_cache_[dir];
-    const auto known = cache.find(g);
-    f[dir] = known != cache.end() ? known->second : cache.emplace(g, to_face(dir, g)).first->second;
-  }
-  const TopAbs_State st = classifier_->Perform(gp_Pnt2d(f[0], f[1]));
-  const bool in = st == TopAbs_IN || st == TopAbs_ON;
-  inside_cache_.emplace(std::make_pair(u, v), in);
-  return in;
+  if (p[0] < root.lo[0] || p[0] > root.hi[0] || p[1] < root.lo[1] || p[1] > root.hi[1]) return false;
+  return query_quadtree(0, p, p) >= 0;
 }
 
 }  // namespace isocam

@@ -7,7 +7,6 @@
 
 #include <memory>
 #include <mutex>
-#include <unordered_map>
 #include <vector>
 
 #include <Geom_Surface.hxx>
@@ -36,12 +35,9 @@ class TrimDomain {
   // Thread-safe: the hatcher it uses is locked.
   std::vector<Interval> inside(bool iso_v, double level, double t0, double t1) const;
 
-  // True if the grid point (u, v) is inside the face or on its boundary
-  // (within the classifier's 1e-9 of the parameter). Exact: the quadtree
-  // answers away from the wires, the face's 2D classifier near them, on the
-  // exact face parameters (results cached, so the repeated corners of
-  // subdivided patches are classified once). Thread-safe: the clearance
-  // model asks from several threads.
+  // True if the grid point (u, v) is inside the face, or within 1/512 of the
+  // parameter range of its boundary (conservative: for the clearance check,
+  // where counting a little too much of the surface as face only protects).
   bool contains(double u, double v) const;
 
   // The grid rectangle [u0, u1] x [v0, v1]: -1 entirely outside the face,
@@ -92,18 +88,6 @@ class TrimDomain {
   double fmin_[2], fmax_[2];  // the face's parameter bounds
   std::unique_ptr<Geom2dHatch_Hatcher> hatcher_;
   std::unique_ptr<std::mutex> hatcher_lock_ = std::make_unique<std::mutex>();
-
-  // contains() near the wires: the classifier on exact face parameters.
-  bool classify_exact(double u, double v) const;
-  struct PairHash {
-    std::size_t operator()(const std::pair<double, double>& p) const noexcept {
-      return std::hash<double>()(p.first) * 31u + std::hash<double>()(p.second);
-    }
-  };
-  // Caches of classify_exact and of to_face per direction, under one lock.
-  std::unique_ptr<std::mutex> cache_lock_ = std::make_unique<std::mutex>();
-  mutable std::unordered_map<std::pair<double, double>, bool, PairHash> inside_cache_;
-  mutable std::unordered_map<double, double> face_param_cache_[2];
 };
 
 }  // namespace isocam

@@ -48,12 +48,9 @@ struct IsoParams {
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
   double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
   // Keep the ball clear of the faces not picked too. Off by default for now:
-  // a surface point outside a face's wires no longer counts (witnesses are
-  // classified exactly), but a piece of an untrimmed surface that lies just
-  // outside the wires, next to the ball, is subdivided down to the clearance
-  // tolerance and can run out of the query's budget, which counts as a
-  // collision and cuts away passes along a neighbouring face's edge (see
-  // README, Status).
+  // near the wires of a trimmed face the check counts a band of up to 1/512
+  // of its parameter range as face, which can cut away passes that touch a
+  // neighbouring face's edge (see README, Status).
   bool protect_unpicked_faces = false;
   int threads = 0;                // faces computed in parallel; 0: one per core
   double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
