@@ -168,7 +168,8 @@ class RunSplitter {
     };
     auto inside = [&](double t) { return (t - t_ok) * (t_bad - t) > 0; };
     ClearanceModel::Witness w;
-    if (p_ok.Distance(p_bad) > goal && !model_.clear(p_bad, clearance_, &w)) {
+    // (A query that ran out of budget has no witness: plain bisection.)
+    if (p_ok.Distance(p_bad) > goal && !model_.clear(p_bad, clearance_, &w) && w.grid) {
       const double t_star = crossing(t_ok, p_ok, t_bad, p_bad, w);
       // Probes 1/4 of the goal either side of the prediction, farther
       // (doubling) while they land on the wrong side.
