@@ -95,22 +95,11 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
   return r;
 }
 
-// The requested direction, or for Auto the one with the shorter cutting
-// length (the pieces; the links come later, across faces).
-FaceResult best_direction(const PickedFace& face, const IsoParams& params,
-                          const ClearanceModel& model, const ProgressSlice& progress) {
-  std::vector<IsoDirection> dirs{params.direction};
-  if (params.direction == IsoDirection::Auto) dirs = {IsoDirection::V, IsoDirection::U};
-  FaceResult best;
-  const double n = double(dirs.size());
-  for (std::size_t di = 0; di < dirs.size(); ++di) {
-    FaceResult r = face_in_direction(face, dirs[di], params, model,
-                                     progress.sub(double(di) / n, double(di + 1) / n));
-    if (di == 0 || r.cut_length < best.cut_length) best = std::move(r);
-  }
-  best.lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
-                                        params.scallop_height);
-  return best;
+// The directions tried on each face: the requested one, or for Auto both
+// (the shorter cutting length wins, see adaptive_isocurve()).
+std::vector<IsoDirection> directions_to_try(const IsoParams& params) {
+  if (params.direction == IsoDirection::Auto) return {IsoDirection::V, IsoDirection::U};
+  return {params.direction};
 }
 
 void check_faces(const std::vector<int>& faces, std::size_t count) {
@@ -170,20 +159,30 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const double nf = double(faces.size());
   std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
   std::vector<CutPiece> pieces;
-  // Faces are independent until linking: compute them on several threads
-  // (each face on one thread: its trimmed domain's hatcher is not shared),
-  // then merge in face order, so the result does not depend on the number
-  // of threads.
-  std::vector<FaceResult> done(picked.size());
-  std::vector<std::exception_ptr> failed(picked.size());
+  // Faces, and the directions of one face under Auto, are independent until
+  // linking: compute them as tasks (face, direction) on several threads
+  // (two directions of one face share its trimmed domain, whose hatcher is
+  // locked), then pick each face's direction and merge in face order, so
+  // the result does not depend on the number of threads.
+  const std::vector<IsoDirection> dirs = directions_to_try(params);
+  const std::size_t nd = dirs.size();
+  const std::size_t tasks = picked.size() * nd;
+  std::vector<FaceResult> tried(tasks);
+  std::vector<std::exception_ptr> failed(tasks);
   std::atomic<std::size_t> next{0};
   auto worker = [&]() {
-    for (std::size_t k = next++; k < picked.size(); k = next++) {
-      const PickedFace& face = model_faces[picked[k]];
+    for (std::size_t k = next++; k < tasks; k = next++) {
+      const std::size_t f = k / nd, di = k % nd;
+      const PickedFace& face = model_faces[picked[f]];
       try {
         try {
-          done[k] = best_direction(face, params, model,
-                                   ProgressSlice(progress).sub(double(k) / nf, double(k + 1) / nf));
+          const double lo = (double(f) + double(di) / double(nd)) / nf;
+          const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
+          tried[k] = face_in_direction(face, dirs[di], params, model,
+                                       ProgressSlice(progress).sub(lo, hi));
+          if (di == 0)
+            tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
+                                                      params.scallop_height);
         } catch (const Standard_Failure& e) {
           throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " +
                               e.GetMessageString());
@@ -195,13 +194,23 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   };
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t n_threads =
-      std::min<std::size_t>(picked.size(), params.threads > 0 ? std::size_t(params.threads) : hw);
+      std::min<std::size_t>(tasks, params.threads > 0 ? std::size_t(params.threads) : hw);
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
   worker();
   for (std::thread& t : pool) t.join();
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
+  // Per face, the first direction tried unless another cuts strictly less.
+  std::vector<FaceResult> done(picked.size());
+  for (std::size_t f = 0; f < picked.size(); ++f) {
+    std::size_t best = f * nd;
+    for (std::size_t di = 1; di < nd; ++di)
+      if (tried[f * nd + di].cut_length < tried[best].cut_length) best = f * nd + di;
+    const double lower_bound = tried[f * nd].lower_bound;  // of the face, not the direction
+    done[f] = std::move(tried[best]);
+    done[f].lower_bound = lower_bound;
+  }
   for (FaceResult& best : done) {
     result.curves.insert(result.curves.end(), best.coverage.curves.begin(), best.coverage.curves.end());
     result.face_direction.push_back(best.dir);

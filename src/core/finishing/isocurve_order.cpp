@@ -145,12 +145,90 @@ class RunSplitter {
     extend(t2, cur_.pts.back(), tb, pb, depth + 1);
   }
 
+  // The last clear parameter from t_ok (clear) towards t_bad (not clear):
+  // a clear point with a point not clear within 1e-4 of the chord
+  // tolerance beyond it (in space). Bisection finds it, but its last steps
+  // probe points within a hair of the clearance, where each query subdivides
+  // down to the model's tolerance; so first the crossing is predicted from
+  // the witness of t_bad and two probes placed just either side of it. Only
+  // clear() answers move the bracket: a poor prediction costs probes, never
+  // the contract.
   double boundary(double t_ok, double t_bad) const {
-    for (int it = 0; it < 60 && at_(t_ok).Distance(at_(t_bad)) > 1e-4 * tol_; ++it) {
-      const double m = 0.5 * (t_ok + t_bad);
-      if (model_.clear(at_(m), clearance_)) t_ok = m; else t_bad = m;
+    gp_Pnt p_ok = at_(t_ok), p_bad = at_(t_bad);
+    const double goal = 1e-4 * tol_;
+    auto probe = [&](double t) {
+      const gp_Pnt p = at_(t);
+      if (model_.clear(p, clearance_)) {
+        t_ok = t;
+        p_ok = p;
+      } else {
+        t_bad = t;
+        p_bad = p;
+      }
+    };
+    auto inside = [&](double t) { return (t - t_ok) * (t_bad - t) > 0; };
+    ClearanceModel::Witness w;
+    // (A query that ran out of budget has no witness: plain bisection.)
+    if (p_ok.Distance(p_bad) > goal && !model_.clear(p_bad, clearance_, &w) && w.grid) {
+      const double t_star = crossing(t_ok, p_ok, t_bad, p_bad, w);
+      // Probes 1/4 of the goal either side of the prediction, farther
+      // (doubling) while they land on the wrong side.
+      const double dt = std::copysign(0.25 * goal * std::abs(t_bad - t_ok) / p_ok.Distance(p_bad),
+                                      t_bad - t_ok);
+      for (int k = 0; k < 3 && std::isfinite(t_star) && inside(t_star - dt * (1 << k)); ++k) {
+        probe(t_star - dt * (1 << k));
+        if (t_ok == t_star - dt * (1 << k)) break;
+      }
+      for (int k = 0; k < 3 && std::isfinite(t_star) && inside(t_star + dt * (1 << k)) &&
+                      p_ok.Distance(p_bad) > goal;
+           ++k) {
+        probe(t_star + dt * (1 << k));
+        if (t_bad == t_star + dt * (1 << k)) break;
+      }
     }
+    for (int it = 0; it < 60 && p_ok.Distance(p_bad) > goal; ++it) probe(0.5 * (t_ok + t_bad));
     return t_ok;
+  }
+
+  // Where the distance from the path to the witness's piece of surface (its
+  // local minimum near the witness) crosses the clearance, by the Illinois
+  // variant of regula falsi; NaN if it does not change sign over the
+  // bracket.
+  double crossing(double ta, gp_Pnt pa, double tb, gp_Pnt pb, ClearanceModel::Witness w) const {
+    ClearanceModel::Witness wa = w;
+    double fa = ClearanceModel::local_distance(pa, &wa) - clearance_;
+    double fb = ClearanceModel::local_distance(pb, &w) - clearance_;
+    if (!(fa > 0 && fb < 0)) return std::nan("");
+    // The probes around the prediction are 1/4 of the goal apart from it: a
+    // step under 1/100 of the goal (the method converges superlinearly, so
+    // the last step bounds the error) is close enough.
+    const double enough = 1e-2 * 1e-4 * tol_;
+    int side = 0;
+    gp_Pnt last = pb;
+    for (int it = 0; it < 40 && pa.Distance(pb) > enough; ++it) {
+      const double t = (ta * fb - tb * fa) / (fb - fa);
+      const gp_Pnt pt = at_(t);
+      if (it > 0 && pt.Distance(last) < enough) return t;
+      last = pt;
+      ClearanceModel::Witness wt = w;
+      const double ft = ClearanceModel::local_distance(pt, &wt) - clearance_;
+      if (ft == 0) return t;
+      if (ft > 0) {
+        ta = t;
+        pa = pt;
+        fa = ft;
+        if (side > 0) fb *= 0.5;
+        side = 1;
+      } else {
+        tb = t;
+        pb = pt;
+        fb = ft;
+        w = wt;
+        if (side < 0) fa *= 0.5;
+        side = -1;
+      }
+    }
+    return (ta * fb - tb * fa) / (fb - fa);
   }
 
   // Ends the run at the clear curve point of parameter t. The chord to it

@@ -28,53 +28,21 @@ namespace {
 
 gp_Pnt project(const H4& h) { return gp_Pnt(h.x / h.w, h.y / h.w, h.z / h.w); }
 
-double point_segment_distance(const gp_Pnt& p, const gp_Pnt& a, const gp_Pnt& b) {
-  const gp_Vec ab(a, b), ap(a, p);
-  const double l2 = ab.SquareMagnitude();
-  const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return p.Distance(a.Translated(ab * t));
-}
-
 using Net = ClearanceModel::Net;
 
-// Per-thread stack of pieces, reused across queries.
-std::vector<Net>& scratch() {
-  thread_local std::vector<Net> s;
-  return s;
-}
+void split_net(const H4* n, int pu, int pv, bool along_u, H4* l, H4* r);
 
 // Splits the net at the parametric middle in u (along_u) or v.
 void split(const Net& n, bool along_u, Net& l, Net& r) {
-  l.pu = r.pu = n.pu;
-  l.pv = r.pv = n.pv;
+  l = n;
+  r = n;
   l.depth = r.depth = n.depth + 1;
-  l.inside = r.inside = n.inside;
-  l.u0 = r.u0 = n.u0;
-  l.u1 = r.u1 = n.u1;
-  l.v0 = r.v0 = n.v0;
-  l.v1 = r.v1 = n.v1;
   if (along_u) {
     l.u1 = r.u0 = 0.5 * (n.u0 + n.u1);
   } else {
     l.v1 = r.v0 = 0.5 * (n.v0 + n.v1);
   }
-  const int m = along_u ? n.pu : n.pv;          // degree along the split
-  const int lines = along_u ? n.pv + 1 : n.pu + 1;
-  std::array<H4, kMaxNet> w;
-  for (int line = 0; line < lines; ++line) {
-    for (int k = 0; k <= m; ++k) w[static_cast<std::size_t>(k)] = along_u ? n.at(k, line) : n.at(line, k);
-    auto put = [&](Net& net, int k, const H4& h) {
-      if (along_u) net.at(k, line) = h; else net.at(line, k) = h;
-    };
-    put(l, 0, w[0]);
-    put(r, m, w[static_cast<std::size_t>(m)]);
-    for (int s = 1; s <= m; ++s) {
-      for (int k = 0; k + s <= m; ++k)
-        w[static_cast<std::size_t>(k)] = (w[static_cast<std::size_t>(k)] + w[static_cast<std::size_t>(k) + 1]) * 0.5;
-      put(l, s, w[0]);
-      put(r, m - s, w[static_cast<std::size_t>(m - s)]);
-    }
-  }
+  split_net(n.c.data(), n.pu, n.pv, along_u, l.c.data(), r.c.data());
 }
 
 // An oriented box around points, in a frame taken from four corner points
@@ -154,6 +122,26 @@ double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3]
   return std::sqrt(best);
 }
 
+double segment_box_bound2(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
+                          const double hi[3]) {
+  const double pa[3] = {a.X(), a.Y(), a.Z()}, pb[3] = {b.X(), b.Y(), b.Z()};
+  double e2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = std::max({0.0, lo[k] - std::max(pa[k], pb[k]), std::min(pa[k], pb[k]) - hi[k]});
+    e2 += e * e;
+  }
+  return e2;
+}
+
+bool segment_box_beyond(const gp_Pnt& a, const gp_Pnt& b, const double lo[3], const double hi[3],
+                        double d) {
+  const double e2 = segment_box_bound2(a, b, lo, hi);
+  if (e2 >= d * d) return true;
+  // For a point the bound is the distance.
+  if (a.X() == b.X() && a.Y() == b.Y() && a.Z() == b.Z()) return false;
+  return segment_box_distance(a, b, lo, hi) >= d;
+}
+
 void ClearanceModel::Box::add(const gp_Pnt& p) {
   const double q[3] = {p.X(), p.Y(), p.Z()};
   for (int k = 0; k < 3; ++k) {
@@ -184,12 +172,12 @@ void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
       net.v0 = g.vbreaks()[static_cast<std::size_t>(j)];
       net.v1 = g.vbreaks()[static_cast<std::size_t>(j) + 1];
       std::copy(g.patch(i, j), g.patch(i, j) + n, net.c.begin());
-      add_piece(net, trim);
+      add_piece(net, g, trim);
     }
   }
 }
 
-void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
+void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim) {
   int state = 1;
   if (trim) {
     state = trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
@@ -212,8 +200,8 @@ void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     Net left, right;
     split(net, lu >= lv, left, right);
-    add_piece(left, trim);
-    add_piece(right, trim);
+    add_piece(left, grid, trim);
+    add_piece(right, grid, trim);
     return;
   }
   Patch p;
@@ -224,7 +212,9 @@ void ClearanceModel::add_piece(const Net& net, const TrimDomain* trim) {
   p.v0 = net.v0;
   p.v1 = net.v1;
   p.state = state;
+  for (int k = 0; k < n && !p.rational; ++k) p.rational = net.c[static_cast<std::size_t>(k)].w != 1.0;
   p.trim = state == 0 ? trim : nullptr;
+  p.grid = &grid;
   p.first = cps_.size();
   cps_.insert(cps_.end(), net.c.begin(), net.c.begin() + n);
   p.box = box;
@@ -274,82 +264,235 @@ int ClearanceModel::build_node(int lo, int hi) {
   return id;
 }
 
-bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d) const {
+bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness) const {
   if (nodes_.empty()) return true;
-  std::vector<int> stack{0};
-  while (!stack.empty()) {
-    const Node& n = nodes_[static_cast<std::size_t>(stack.back())];
-    stack.pop_back();
-    if (segment_box_distance(a, b, n.box.lo, n.box.hi) >= d) continue;
+  // Nearest node first: the answer does not depend on the order (any
+  // witness makes it false, and the set of pieces that would be examined is
+  // fixed), but a query that is not clear usually stops at its first node.
+  // The tree is balanced, so its depth is about log2(patches / 4).
+  std::array<int, 128> stack;
+  std::size_t top = 0;
+  if (segment_box_beyond(a, b, nodes_[0].box.lo, nodes_[0].box.hi, d)) return true;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
     if (n.left >= 0) {
-      stack.push_back(n.left);
-      stack.push_back(n.right);
+      const Node& l = nodes_[static_cast<std::size_t>(n.left)];
+      const Node& r = nodes_[static_cast<std::size_t>(n.right)];
+      const bool near_l = !segment_box_beyond(a, b, l.box.lo, l.box.hi, d);
+      const bool near_r = !segment_box_beyond(a, b, r.box.lo, r.box.hi, d);
+      if (top + 2 > stack.size()) throw GeometryError("clearance: hierarchy too deep");
+      const bool left_first =
+          segment_box_bound2(a, b, l.box.lo, l.box.hi) <= segment_box_bound2(a, b, r.box.lo, r.box.hi);
+      if (left_first ? near_r : near_l) stack[top++] = left_first ? n.right : n.left;
+      if (left_first ? near_l : near_r) stack[top++] = left_first ? n.left : n.right;
       continue;
     }
     for (int k = n.patch_lo; k < n.patch_hi; ++k) {
       const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
-      if (segment_box_distance(a, b, p.box.lo, p.box.hi) >= d) continue;
+      if (segment_box_beyond(a, b, p.box.lo, p.box.hi, d)) continue;
       auto local = [&p](const gp_Pnt& q) {
         return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
       };
-      if (segment_box_distance(local(a), local(b), p.olo, p.ohi) >= d) continue;
-      if (!patch_clear(p, a, b, d)) return false;
+      if (segment_box_beyond(local(a), local(b), p.olo, p.ohi, d)) continue;
+      if (!patch_clear(p, a, b, d, witness)) return false;
     }
   }
   return true;
 }
 
+namespace {
+
+// A piece of a patch on the per-thread work stack; its control net is
+// `size` homogeneous points at `first` in the work buffer (pieces are
+// pushed and popped in stack order, so the buffer is a stack too).
+struct Piece {
+  double u0, u1, v0, v1;
+  std::size_t first;
+  int depth;
+  bool inside;  // known to lie inside the face's trimmed domain
+};
+
+struct Work {
+  std::vector<Piece> pieces;
+  std::vector<H4> cps;
+};
+
+// Reused across queries: no allocation once warm.
+Work& work() {
+  thread_local Work w;
+  return w;
+}
+
+// de Casteljau split of a (pu x pv) net at its parametric middle in u
+// (along_u) or v, into `l` and `r` (same layout: point (a, b) at
+// a + (pu + 1) b).
+void split_net(const H4* n, int pu, int pv, bool along_u, H4* l, H4* r) {
+  const int m = along_u ? pu : pv;  // degree along the split
+  const int lines = along_u ? pv + 1 : pu + 1;
+  const int stride = along_u ? 1 : pu + 1;       // between points of a line
+  const int step = along_u ? pu + 1 : 1;         // between lines
+  H4 w[10];
+  for (int line = 0; line < lines; ++line) {
+    const int base = line * step;
+    for (int k = 0; k <= m; ++k) w[k] = n[base + k * stride];
+    l[base] = w[0];
+    r[base + m * stride] = w[m];
+    for (int s = 1; s <= m; ++s) {
+      for (int k = 0; k + s <= m; ++k) w[k] = (w[k] + w[k + 1]) * 0.5;
+      l[base + s * stride] = w[0];
+      r[base + (m - s) * stride] = w[m - s];
+    }
+  }
+}
+
+double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp_XYZ& ab,
+                                      double ab2) {
+  const gp_XYZ ap = p - a;
+  const double t = ab2 > 0 ? std::clamp(ap.Dot(ab) / ab2, 0.0, 1.0) : 0.0;
+  return (ap - ab * t).SquareModulus();
+}
+
+}  // namespace
+
 bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_Pnt& b,
-                                 double d) const {
-  std::vector<Net>& stack = scratch();
-  stack.clear();
-  stack.emplace_back();
-  Net& root = stack.back();
-  root.pu = patch.pu;
-  root.pv = patch.pv;
-  root.depth = 0;
-  root.inside = patch.trim == nullptr;
-  root.u0 = patch.u0;
-  root.u1 = patch.u1;
-  root.v0 = patch.v0;
-  root.v1 = patch.v1;
-  std::copy(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
-            cps_.begin() + static_cast<std::ptrdiff_t>(patch.first) + root.size(), root.c.begin());
+                                 double d, Witness* witness) const {
+  const int pu = patch.pu, pv = patch.pv;
+  const int n = (pu + 1) * (pv + 1);
+  const std::size_t sz = static_cast<std::size_t>(n);
+  const double d2 = d * d;
+  const gp_XYZ ax = a.XYZ(), ab = b.XYZ() - a.XYZ();
+  const double ab2 = ab.SquareModulus();
+  Work& w = work();
+  w.pieces.clear();
+  w.cps.assign(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
+               cps_.begin() + static_cast<std::ptrdiff_t>(patch.first + sz));
+  w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr});
+  std::array<H4, kMaxNet> c;
   std::array<gp_Pnt, kMaxNet> pts;
   // A query that cannot be decided within this many pieces answers "not
   // clear": slow cases cost some path, never a gouge.
   int budget = 4000;
-  while (!stack.empty()) {
+  while (!w.pieces.empty()) {
     if (--budget < 0) return false;
-    Net net = stack.back();
-    stack.pop_back();
-    if (!net.inside) {
-      const int state = patch.trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
+    Piece piece = w.pieces.back();
+    w.pieces.pop_back();
+    std::copy(w.cps.begin() + static_cast<std::ptrdiff_t>(piece.first), w.cps.end(), c.begin());
+    w.cps.resize(piece.first);
+    if (!piece.inside) {
+      const int state = patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
       if (state < 0) continue;  // this piece is outside the face
-      net.inside = state > 0;
+      piece.inside = state > 0;
     }
-    const int n = net.size();
-    for (int k = 0; k < n; ++k) pts[static_cast<std::size_t>(k)] = project(net.c[static_cast<std::size_t>(k)]);
+    // A polynomial net keeps w = 1 exactly under subdivision (averages of
+    // ones): no division needed.
+    if (patch.rational) {
+      for (std::size_t k = 0; k < sz; ++k) pts[k] = project(c[k]);
+    } else {
+      for (std::size_t k = 0; k < sz; ++k) pts[k].SetCoord(c[k].x, c[k].y, c[k].z);
+    }
     // A witness: the piece's corners are points of the surface (and, on a
     // trimmed face, must be points of the face).
-    const gp_Pnt corners[4] = {pts[0], project(net.at(net.pu, 0)), project(net.at(0, net.pv)),
-                               pts[static_cast<std::size_t>(n - 1)]};
-    const double cu[4] = {net.u0, net.u1, net.u0, net.u1}, cv[4] = {net.v0, net.v0, net.v1, net.v1};
+    const gp_Pnt corners[4] = {pts[0], pts[static_cast<std::size_t>(pu)],
+                               pts[static_cast<std::size_t>((pu + 1) * pv)], pts[sz - 1]};
+    const double cu[4] = {piece.u0, piece.u1, piece.u0, piece.u1};
+    const double cv[4] = {piece.v0, piece.v0, piece.v1, piece.v1};
     for (int k = 0; k < 4; ++k)
-      if (point_segment_distance(corners[k], a, b) < d &&
-          (net.inside || patch.trim->contains(cu[k], cv[k])))
+      if (squared_point_segment_distance(corners[k].XYZ(), ax, ab, ab2) < d2 &&
+          (piece.inside || patch.trim->contains(cu[k], cv[k]))) {
+        if (witness) *witness = {patch.grid, cu[k], cv[k]};
         return false;
+      }
     const Obb box(pts.data(), n, corners);
-    if (segment_box_distance(box.local(a), box.local(b), box.lo, box.hi) >= d) continue;
-    if (box.extent() <= eps_ || net.depth > 40) continue;  // clear within eps
-    // Split across the longer parametric direction of the control net.
+    if (segment_box_beyond(box.local(a), box.local(b), box.lo, box.hi, d)) continue;
+    if (box.extent() <= eps_ || piece.depth > 40) continue;  // clear within eps
+    // Split across the longer parametric direction of the control net. The
+    // half on the side of the corner nearer the segment goes on top, so that
+    // a witness, if any, is met early (the answer does not depend on the
+    // order, only the work).
     const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
-    stack.emplace_back();
-    stack.emplace_back();
-    split(net, lu >= lv, stack[stack.size() - 2], stack.back());
+    const bool along_u = lu >= lv;
+    const std::size_t at = w.cps.size();
+    w.cps.resize(at + 2 * sz);
+    const bool low_nearer = squared_point_segment_distance(corners[0].XYZ(), ax, ab, ab2) <=
+                            squared_point_segment_distance(corners[3].XYZ(), ax, ab, ab2);
+    H4* bottom = w.cps.data() + at;
+    split_net(c.data(), pu, pv, along_u, low_nearer ? bottom + sz : bottom,
+              low_nearer ? bottom : bottom + sz);
+    Piece lo = piece, hi = piece;
+    lo.depth = hi.depth = piece.depth + 1;
+    if (along_u) {
+      lo.u1 = hi.u0 = 0.5 * (piece.u0 + piece.u1);
+    } else {
+      lo.v1 = hi.v0 = 0.5 * (piece.v0 + piece.v1);
+    }
+    Piece& below = low_nearer ? hi : lo;
+    Piece& above = low_nearer ? lo : hi;
+    below.first = at;
+    above.first = at + sz;
+    w.pieces.push_back(below);
+    w.pieces.push_back(above);
   }
   return true;
+}
+
+double ClearanceModel::local_distance(const gp_Pnt& q, Witness* w) {
+  const PatchGrid& g = *w->grid;
+  // Newton's method on f(u, v) = |S(u, v) - q|^2 / 2 over the grid's
+  // rectangle, second derivatives of S by central differences of the first
+  // (h: far above rounding, far below the curvature's scale); a step that
+  // does not lower f is halved, one that still does not ends the search.
+  const double lo[2] = {g.umin(), g.vmin()}, hi[2] = {g.umax(), g.vmax()};
+  const double h[2] = {1e-5 * (hi[0] - lo[0]), 1e-5 * (hi[1] - lo[1])};
+  double u = std::clamp(w->u, lo[0], hi[0]), v = std::clamp(w->v, lo[1], hi[1]);
+  SurfaceDerivs d = g.d1(u, v);
+  double f = q.SquareDistance(d.p);
+  for (int it = 0; it < 30; ++it) {
+    const double uc = std::clamp(u, lo[0] + h[0], hi[0] - h[0]);
+    const double vc = std::clamp(v, lo[1] + h[1], hi[1] - h[1]);
+    const SurfaceDerivs pu = g.d1(uc + h[0], vc), mu = g.d1(uc - h[0], vc);
+    const SurfaceDerivs pv = g.d1(uc, vc + h[1]), mv = g.d1(uc, vc - h[1]);
+    const gp_Vec suu = (pu.su - mu.su) / (2 * h[0]), svv = (pv.sv - mv.sv) / (2 * h[1]);
+    const gp_Vec suv = 0.5 * ((pu.sv - mu.sv) / (2 * h[0]) + (pv.su - mv.su) / (2 * h[1]));
+    const gp_Vec e(q, d.p);
+    const double gu = e.Dot(d.su), gv = e.Dot(d.sv);
+    const double huu = d.su.Dot(d.su) + e.Dot(suu), hvv = d.sv.Dot(d.sv) + e.Dot(svv);
+    const double huv = d.su.Dot(d.sv) + e.Dot(suv);
+    const double det = huu * hvv - huv * huv;
+    double du, dv;
+    if (huu > 0 && det > 1e-12 * huu * hvv) {
+      du = -(hvv * gu - huv * gv) / det;
+      dv = -(huu * gv - huv * gu) / det;
+    } else {  // not convex here: a gradient step
+      const double n2 = d.su.SquareMagnitude() + d.sv.SquareMagnitude();
+      if (!(n2 > 0)) break;
+      du = -gu / n2;
+      dv = -gv / n2;
+    }
+    double step = 1.0, nu = u, nv = v;
+    SurfaceDerivs nd = d;
+    bool lower = false;
+    for (int k = 0; k < 30 && !lower; ++k, step *= 0.5) {
+      nu = std::clamp(u + step * du, lo[0], hi[0]);
+      nv = std::clamp(v + step * dv, lo[1], hi[1]);
+      nd = g.d1(nu, nv);
+      lower = q.SquareDistance(nd.p) <= f;
+    }
+    if (!lower) break;
+    // The distance is stationary at the minimum: parameters to 1e-10 of
+    // the range put it within rounding.
+    const bool still = std::abs(nu - u) <= 1e-10 * (hi[0] - lo[0]) &&
+                       std::abs(nv - v) <= 1e-10 * (hi[1] - lo[1]);
+    u = nu;
+    v = nv;
+    d = nd;
+    f = q.SquareDistance(d.p);
+    if (still) break;
+  }
+  w->u = u;
+  w->v = v;
+  return std::sqrt(f);
 }
 
 }  // namespace isocam

@@ -31,16 +31,32 @@ class ClearanceModel {
   // eps: the accuracy of the answers; max_piece: pieces of surface larger
   // than this are stored split (a few ball radii is a good size).
   ClearanceModel(double eps, double max_piece) : eps_(eps), max_piece_(max_piece) {}
-  // Adds every patch of the grid; with `trim` (the face's domain, which must
-  // outlive the model) only the part of the surface inside the face counts:
+  // Adds every patch of the grid (which must outlive the model); with `trim`
+  // (the face's domain, which must outlive the model too) only the part of the surface inside the face counts:
   // pieces outside it are skipped and a witness must lie inside it.
   void add(const PatchGrid& grid, const TrimDomain* trim = nullptr);
   // Builds the hierarchy; call once after the last add().
   void build();
 
-  // False if some surface point is closer than d to the segment [a, b].
-  bool clear(const gp_Pnt& a, const gp_Pnt& b, double d) const;
-  bool clear(const gp_Pnt& c, double d) const { return clear(c, c, d); }
+  // Where a query found the model too close: a point (u, v) of a face's
+  // grid.
+  struct Witness {
+    const PatchGrid* grid = nullptr;
+    double u = 0.0, v = 0.0;
+  };
+
+  // False if some surface point is closer than d to the segment [a, b];
+  // then `witness`, if given, receives that point.
+  bool clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness = nullptr) const;
+  bool clear(const gp_Pnt& c, double d, Witness* witness = nullptr) const {
+    return clear(c, c, d, witness);
+  }
+
+  // The distance from q to the nearest point of the witness's face found by
+  // Newton's method from the witness (a local minimum of the untrimmed
+  // surface: an estimate, not a proof of anything); moves the witness
+  // there. For predictions that clear() calls then verify.
+  static double local_distance(const gp_Pnt& q, Witness* witness);
 
   double tolerance() const { return eps_; }
 
@@ -54,11 +70,13 @@ class ClearanceModel {
   };
   struct Patch {
     int pu = 0, pv = 0;
+    bool rational = false;  // some weight is not 1
     std::size_t first = 0;  // index of the control net in cps_
     Box box;                // axis-aligned box of the control net
     gp_XYZ axes[3];         // and an oriented one: axes, then bounds along them
     double olo[3] = {0, 0, 0}, ohi[3] = {0, 0, 0};
     const TrimDomain* trim = nullptr;  // null or the face's domain
+    const PatchGrid* grid = nullptr;   // the face's grid
     int state = 1;                     // 1 inside the face, 0 meets its boundary
     double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  // the patch's grid parameters
   };
@@ -69,8 +87,9 @@ class ClearanceModel {
   };
 
   int build_node(int lo, int hi);
-  void add_piece(const Net& net, const TrimDomain* trim);
-  bool patch_clear(const Patch& p, const gp_Pnt& a, const gp_Pnt& b, double d) const;
+  void add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim);
+  bool patch_clear(const Patch& p, const gp_Pnt& a, const gp_Pnt& b, double d,
+                   Witness* witness) const;
 
   double eps_, max_piece_;
   std::vector<H4> cps_;
@@ -79,8 +98,15 @@ class ClearanceModel {
   std::vector<Node> nodes_;
 };
 
-// Lower bound of the distance between segment [a, b] and an axis box.
+// The distance between segment [a, b] and an axis box (exact).
 double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
                             const double hi[3]);
+// A lower bound of its square (the box of the segment against the box):
+// cheap, and exact for a point.
+double segment_box_bound2(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
+                          const double hi[3]);
+// segment_box_distance(a, b, lo, hi) >= d, trying the cheap bound first.
+bool segment_box_beyond(const gp_Pnt& a, const gp_Pnt& b, const double lo[3], const double hi[3],
+                        double d);
 
 }  // namespace isocam

@@ -62,19 +62,31 @@ Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1,
 
 }  // namespace
 
+namespace {
+// de Casteljau in a buffer of N points (H4 is initialised on construction,
+// so a buffer no larger than needed keeps this cheap).
+template <std::size_t N>
+H4 casteljau_in(const H4* cps, int n, double t) {
+  std::array<H4, N> b;
+  std::copy(cps, cps + n, b.begin());
+  for (int k = 1; k < n; ++k)
+    for (int i = 0; i + k < n; ++i)
+      b[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] * (1 - t) + b[static_cast<std::size_t>(i) + 1] * t;
+  return b[0];
+}
+}  // namespace
+
 H4 casteljau(const H4* cps, int degree, double t) {
-  std::array<H4, 32> b;
   const int n = degree + 1;
+  if (n <= 4) return casteljau_in<4>(cps, n, t);
+  if (n <= 10) return casteljau_in<10>(cps, n, t);
   if (n > 32) {
     std::vector<H4> v(cps, cps + n);
     for (int k = 1; k < n; ++k)
       for (int i = 0; i + k < n; ++i) v[i] = v[i] * (1 - t) + v[i + 1] * t;
     return v[0];
   }
-  std::copy(cps, cps + n, b.begin());
-  for (int k = 1; k < n; ++k)
-    for (int i = 0; i + k < n; ++i) b[i] = b[i] * (1 - t) + b[i + 1] * t;
-  return b[0];
+  return casteljau_in<32>(cps, n, t);
 }
 
 void restrict_h4(const H4* cps, int degree, double a, double b, H4* out) {
@@ -289,7 +301,8 @@ gp_Pnt PatchGrid::eval(double u, double v) const { return d1(u, v).p; }
 
 SurfaceDerivs PatchGrid::d1(double u, double v) const { return d1_on_span(find_span(ub_, u), u, v); }
 
-SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
+template <std::size_t N>
+SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
   const int j = find_span(vb_, v);
   const double du = ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)];
   const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
@@ -297,7 +310,7 @@ SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
   const double t = (v - vb_[static_cast<std::size_t>(j)]) / dv;
   const H4* p = patch(i, j);
   // Columns in v: value and v-derivative at t, then the same in u.
-  std::array<H4, 32> q, qv, col, dcol;
+  std::array<H4, N> q, qv, col, dcol;
   for (int a = 0; a <= pu_; ++a) {
     for (int b = 0; b <= pv_; ++b) col[static_cast<std::size_t>(b)] = p[a + (pu_ + 1) * b];
     for (int b = 0; b < pv_; ++b)
@@ -305,7 +318,7 @@ SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
     q[static_cast<std::size_t>(a)] = casteljau(col.data(), pv_, t);
     qv[static_cast<std::size_t>(a)] = casteljau(dcol.data(), pv_ - 1, t);
   }
-  std::array<H4, 32> dq;
+  std::array<H4, N> dq;
   for (int a = 0; a < pu_; ++a)
     dq[static_cast<std::size_t>(a)] = (q[static_cast<std::size_t>(a) + 1] - q[static_cast<std::size_t>(a)]) * pu_;
   const H4 A = casteljau(q.data(), pu_, s);
@@ -317,6 +330,13 @@ SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
   d.su = (gp_Vec(Au.x, Au.y, Au.z) - P * Au.w) / A.w;
   d.sv = (gp_Vec(Av.x, Av.y, Av.z) - P * Av.w) / A.w;
   return d;
+}
+
+SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
+  // Buffers sized to the degree: they are initialised on every call.
+  if (pu_ <= 3 && pv_ <= 3) return d1_in<4>(i, u, v);
+  if (pu_ <= 9 && pv_ <= 9) return d1_in<10>(i, u, v);
+  return d1_in<32>(i, u, v);
 }
 
 gp_Vec PatchGrid::normal(double u, double v, const SurfaceDerivs* at) const {

@@ -106,6 +106,8 @@ class PatchGrid {
 
  private:
   void finish();
+  template <std::size_t N>
+  SurfaceDerivs d1_in(int i, double u, double v) const;
 
   int pu_ = 0, pv_ = 0;
   bool rational_ = false;

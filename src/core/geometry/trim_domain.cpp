@@ -209,6 +209,8 @@ double TrimDomain::to_grid(int dir, double f) const {
 }
 
 std::vector<Interval> TrimDomain::inside(bool iso_v, double level, double t0, double t1) const {
+  // The hatcher keeps the lines it is given: one caller at a time.
+  const std::lock_guard<std::mutex> lock(*hatcher_lock_);
   const int level_dir = iso_v ? 1 : 0;
   const double f = to_face(level_dir, level);
   const double span = fmax_[level_dir] - fmin_[level_dir];

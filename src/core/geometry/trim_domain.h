@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include <Geom_Surface.hxx>
@@ -31,6 +32,7 @@ class TrimDomain {
   // The parts of [t0, t1] inside the face along the iso-line of the grid at
   // `level`: for an iso-v line (`iso_v` true) v = level and t runs along u;
   // otherwise u = level and t runs along v. Grid parameters in and out.
+  // Thread-safe: the hatcher it uses is locked.
   std::vector<Interval> inside(bool iso_v, double level, double t0, double t1) const;
 
   // True if the grid point (u, v) is inside the face, or within 1/512 of the
@@ -85,6 +87,7 @@ class TrimDomain {
   int label_;
   double fmin_[2], fmax_[2];  // the face's parameter bounds
   std::unique_ptr<Geom2dHatch_Hatcher> hatcher_;
+  std::unique_ptr<std::mutex> hatcher_lock_ = std::make_unique<std::mutex>();
 };
 
 }  // namespace isocam
