@@ -16,6 +16,7 @@
 #include <Standard_Failure.hxx>
 
 #include "finishing/coverage.h"
+#include "finishing/parallel_planes.h"
 #include "geometry/trim_domain.h"
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -167,15 +168,30 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const double nf = double(faces.size());
   std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
   std::vector<CutPiece> pieces;
+  // ParallelPlanes: all faces share one set of planes, so they are cut
+  // together (parallel_planes.cpp) and the per-face work below has none.
+  const bool planes = params.pattern == IsoPattern::ParallelPlanes;
+  if (planes) {
+    std::vector<PlaneFace> plane_faces;
+    for (std::size_t k : picked)
+      plane_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
+    PlanePieces cut = parallel_plane_pieces(plane_faces, delta, params, model, progress);
+    result.plane_axis = cut.axis;
+    result.face_direction.assign(picked.size(), IsoDirection::Auto);
+    result.metrics.sub_isocurves = cut.curves;
+    result.metrics.unreachable_length = cut.unreachable_length;
+    max_dist = cut.max_pass_distance;
+    pieces = std::move(cut.pieces);
+  }
   // Faces are independent until linking: compute them on several threads
   // (each face on one thread: its trimmed domain's hatcher is not shared),
   // then merge in face order, so the result does not depend on the number
   // of threads.
-  std::vector<FaceResult> done(picked.size());
+  std::vector<FaceResult> done(planes ? 0 : picked.size());
   std::vector<std::exception_ptr> failed(picked.size());
   std::atomic<std::size_t> next{0};
   auto worker = [&]() {
-    for (std::size_t k = next++; k < picked.size(); k = next++) {
+    for (std::size_t k = next++; k < done.size(); k = next++) {
       const PickedFace& face = model_faces[picked[k]];
       try {
         try {
@@ -192,7 +208,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   };
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const std::size_t n_threads =
-      std::min<std::size_t>(picked.size(), params.threads > 0 ? std::size_t(params.threads) : hw);
+      std::min<std::size_t>(done.size(), params.threads > 0 ? std::size_t(params.threads) : hw);
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
   worker();
