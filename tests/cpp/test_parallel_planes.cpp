@@ -7,14 +7,15 @@
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRep_Tool.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom_Surface.hxx>
-#include <gp_Pln.hxx>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <gp_Pln.hxx>
 #include <iostream>
 #include <set>
 
@@ -126,8 +127,9 @@ std::function<double(const gp_Pnt&)> surface_distance(const TopoDS_Face& face) {
 // (chord and gouge tolerances): there the distance to the face may be
 // smaller than r, never by more, and at most `near_share` of the centres.
 void expect_centres_on_offset_in_planes(const std::function<double(const gp_Pnt&)>& distance,
-                                        const IsoResult& res, double r, int axis, std::size_t stride = 1,
-                                        double slack = 0.0, double near_share = 0.0) {
+                                        const IsoResult& res, double r, int axis,
+                                        std::size_t stride = 1, double slack = 0.0,
+                                        double near_share = 0.0) {
   std::vector<double> coords;
   double worst = 0.0, closest = r;
   int unprojected = 0, checked = 0, near = 0;
@@ -166,8 +168,8 @@ TEST(ParallelPlanes, CentresOnTheOffsetInTheirPlanesOnFigure2) {
   IsoParams p = plane_params(r, h, IsoPlaneAxis::X);
   const IsoResult res = adaptive_isocurve(f, {0}, p);
   std::cout << "Figure 2, planes x: cutting length " << res.metrics.cutting_length << ", pieces "
-            << res.metrics.sub_isocurves << ", largest pass distance " << res.metrics.max_iso_distance
-            << "\n";
+            << res.metrics.sub_isocurves << ", largest pass distance "
+            << res.metrics.max_iso_distance << "\n";
   expect_centres_on_offset_in_planes(surface_distance(f), res, r, 0);
   EXPECT_GE(res.metrics.max_iso_distance, res.metrics.delta);
   // No gouge, against a dense cloud of the face.
@@ -176,26 +178,69 @@ TEST(ParallelPlanes, CentresOnTheOffsetInTheirPlanesOnFigure2) {
             r - p.chord_tolerance - p.gouge_tolerance - 1e-6);
 }
 
+TEST(ParallelPlanes, CentresOnTheOffsetAcrossCreases) {
+  // Figure 2's surface with C0 joints at u = 1 and u = 2: across a convex
+  // crease the ball rolls around it, its centre r from the crease line,
+  // which is the nearest point of the surface there but no orthogonal
+  // projection: the distance is the smaller of the projection's and the
+  // distance to the crease lines. A concave crease is cut by the clearance.
+  const TopoDS_Face f = test::figure2_ruled_surface(true);
+  Handle(Geom_Surface) s = BRep_Tool::Surface(f);
+  const std::function<double(const gp_Pnt&)> on_surface = surface_distance(f);
+  auto distance = [&](const gp_Pnt& c) {
+    double d = on_surface(c);
+    for (double u : {1.0, 2.0}) {
+      GeomAPI_ProjectPointOnCurve proj(c, s->UIso(u));
+      if (proj.NbPoints() > 0 && (d < 0 || proj.LowerDistance() < d)) d = proj.LowerDistance();
+    }
+    return d;
+  };
+  const double r = 5.0, h = 0.1;
+  for (IsoPlaneAxis axis : {IsoPlaneAxis::X, IsoPlaneAxis::Y}) {
+    IsoParams p = plane_params(r, h, axis);
+    const IsoResult res = adaptive_isocurve(f, {0}, p);
+    std::cout << "creased Figure 2: cutting length " << res.metrics.cutting_length
+              << ", unreachable " << res.metrics.unreachable_length << ", " << res.metrics.retracts
+              << " retracts\n";
+    expect_centres_on_offset_in_planes(distance, res, r, axis == IsoPlaneAxis::X ? 0 : 1, 1,
+                                       p.chord_tolerance + p.gouge_tolerance, 0.01);
+    const test::FaceCloud cloud(f, 600);
+    EXPECT_GE(test::min_centre_distance(cloud, res.path, r, 4000),
+              r - p.chord_tolerance - p.gouge_tolerance - 1e-6);
+  }
+}
+
 TEST(ParallelPlanes, CentresOnTheOffsetOnABicubicFace) {
   // MAT's bicubic face (6160 patches), planes of constant y. A global
-  // projection onto this surface is slow and can miss: the distance is a
-  // dense cloud's nearest point refined by a local projection, on every 5th
-  // centre.
+  // projection onto this surface takes some 20 ms: the distance is a dense
+  // cloud's nearest point refined by a local projection, on every 5th
+  // centre, and where that is not r (the local projection can settle on
+  // another extremum where the face curves about as tightly as the ball)
+  // the smaller of it and the global projection's.
   const TopoDS_Shape s = test::load("MAT.brep");
   const double r = 3.0;
   const IsoResult res = adaptive_isocurve(s, {0}, plane_params(r, 0.05, IsoPlaneAxis::Y));
   EXPECT_EQ(res.plane_axis, IsoPlaneAxis::Y);
-  const test::FaceCloud cloud(test::face(s, 0), 600);
+  const TopoDS_Face f = test::face(s, 0);
+  const test::FaceCloud cloud(f, 600);
+  const std::function<double(const gp_Pnt&)> global = surface_distance(f);
+  auto distance = [&](const gp_Pnt& c) {
+    const double d = cloud.distance(c);
+    if (std::abs(d - r) <= 1e-7) return d;
+    const double g = global(c);
+    return g >= 0 ? std::min(d, g) : d;
+  };
   const IsoParams p;
-  expect_centres_on_offset_in_planes([&](const gp_Pnt& c) { return cloud.distance(c); }, res, r, 1, 5,
-                                     p.chord_tolerance + p.gouge_tolerance, 0.05);
+  expect_centres_on_offset_in_planes(distance, res, r, 1, 5, p.chord_tolerance + p.gouge_tolerance,
+                                     0.05);
 }
 
 TEST(ParallelPlanes, AutoPicksTheShorterAxis) {
   // A cylinder along x: planes of constant x cut circles around it, planes
   // of constant y pairs of lines along it (2/pi of the length). The circles
   // are closed curves cut at the face's seam.
-  const TopoDS_Shape s = BRepPrimAPI_MakeCylinder(gp_Ax2(gp::Origin(), gp::DX()), 15.0, 40.0).Shape();
+  const TopoDS_Shape s =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp::Origin(), gp::DX()), 15.0, 40.0).Shape();
   double len[2];
   for (IsoPlaneAxis a : {IsoPlaneAxis::X, IsoPlaneAxis::Y}) {
     const IsoResult r = adaptive_isocurve(s, {0}, plane_params(2.0, 0.05, a));
@@ -208,6 +253,35 @@ TEST(ParallelPlanes, AutoPicksTheShorterAxis) {
   EXPECT_EQ(a.plane_axis, IsoPlaneAxis::Y);
   EXPECT_NEAR(a.metrics.cutting_length, len[1], 1e-9);
   expect_centres_on_offset_in_planes(surface_distance(test::face(s, 0)), a, 2.0, 1);
+}
+
+TEST(ParallelPlanes, SphereGivesClosedCirclesOfTheExactLength) {
+  // Planes x = c meet the offset of a sphere (radius R + r) in circles of
+  // radius sqrt((R + r)^2 - c^2). Those with c < 0 miss the face's seam
+  // (u = 0, in the half-plane x > 0): closed curves, cut in one piece; the
+  // others are cut open at the seam. The path's feed length is the sum of
+  // the circles (less the chords' shortening) plus short links.
+  const double R = 25.0, r = 3.0, h = 0.05;
+  const TopoDS_Shape s = BRepPrimAPI_MakeSphere(R).Shape();
+  const IsoResult res = adaptive_isocurve(s, {0}, plane_params(r, h, IsoPlaneAxis::X));
+  expect_centres_on_offset_in_planes(surface_distance(test::face(s, 0)), res, r, 0);
+  const double delta = res.metrics.delta, rho = R + r;
+  const int n = static_cast<int>(std::ceil(2 * rho / delta));
+  double circles = 0.0;
+  int closed = 0;
+  for (int k = 0; k < n; ++k) {
+    const double c = -0.5 * (n - 1) * delta + k * delta;
+    if (std::abs(c) < rho) circles += 2 * M_PI * std::sqrt(rho * rho - c * c);
+    closed += c < 0;
+  }
+  std::cout << "sphere: circles " << circles << " mm, cutting length " << res.metrics.cutting_length
+            << " mm, " << res.metrics.sub_isocurves << " pieces, " << res.metrics.retracts
+            << " retracts\n";
+  EXPECT_GT(res.metrics.cutting_length, 0.999 * circles);
+  EXPECT_LT(res.metrics.cutting_length, circles + 4 * r * n);
+  // A curve per plane, two for the planes cut at the seam (the poles are on
+  // the seam too: the plane through them may count differently).
+  EXPECT_NEAR(res.metrics.sub_isocurves, closed + 2 * (n - closed), 2);
 }
 
 struct TrimCase {
@@ -225,7 +299,8 @@ TEST_P(PlanesOnTrimmedFace, NoContactPointOutsideTheFace) {
   const TrimCase& c = GetParam();
   const TopoDS_Shape shape = test::load(c.file);
   const TopoDS_Face face = test::face(shape, c.face);
-  const IsoResult res = adaptive_isocurve(shape, {c.face}, plane_params(c.r, c.h, IsoPlaneAxis::Auto));
+  const IsoResult res =
+      adaptive_isocurve(shape, {c.face}, plane_params(c.r, c.h, IsoPlaneAxis::Auto));
   Handle(Geom_Surface) s = BRep_Tool::Surface(face);
   // The contact point of a centre is its foot on the surface (r away: the
   // previous test shows the centres are on the offset).
@@ -249,7 +324,8 @@ TEST_P(PlanesOnTrimmedFace, NoContactPointOutsideTheFace) {
   for (std::size_t i = 1; i < feet.size(); ++i) {
     const gp_Pnt m((feet[i - 1].XYZ() + feet[i].XYZ()) * 0.5);
     GeomAPI_ProjectPointOnSurf proj(m, s);
-    if (proj.NbPoints() > 0 && test::in_face(face, proj.NearestPoint(), 1e-6)) contacts.add(feet[i - 1], feet[i]);
+    if (proj.NbPoints() > 0 && test::in_face(face, proj.NearestPoint(), 1e-6))
+      contacts.add(feet[i - 1], feet[i]);
   }
   const double gap = test::coverage_gap(face, contacts, 200, 2 * res.metrics.delta);
   std::cout << c.name << ": " << feet.size() << " contact points, " << planes << " planes, "

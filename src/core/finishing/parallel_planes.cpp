@@ -3,6 +3,7 @@
 // axis chosen and the pieces put in zig-zag order for link_pieces().
 #include "finishing/parallel_planes.h"
 
+#include <Standard_Failure.hxx>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -11,8 +12,6 @@
 #include <memory>
 #include <thread>
 #include <unordered_map>
-
-#include <Standard_Failure.hxx>
 
 #include "finishing/plane_trace.h"
 #include "isocam/errors.h"
@@ -85,10 +84,15 @@ void join_across_start(std::vector<R>* runs, double t_start, double t_end, doubl
 
 class CurveCutter {
  public:
-  CurveCutter(const PatchGrid& grid, const TrimDomain& trim, const LevelCurve& curve, int axis,
-              double level, const IsoParams& p, const ClearanceModel& model)
-      : trim_(trim), curve_(curve), map_(grid, curve, axis, level, p.ball_radius), axis_(axis),
-        level_(level), tol_(p.chord_tolerance), model_(model),
+  CurveCutter(const OffsetLattice& lattice, const TrimDomain& trim, const LevelCurve& curve,
+              int axis, double level, const IsoParams& p, const ClearanceModel& model)
+      : trim_(trim),
+        curve_(curve),
+        map_(lattice, curve, axis, level),
+        axis_(axis),
+        level_(level),
+        tol_(p.chord_tolerance),
+        model_(model),
         clearance_(p.ball_radius - p.chord_tolerance - model.tolerance()) {}
 
   void cut(FaceCut* out) {
@@ -99,10 +103,17 @@ class CurveCutter {
       const double full = run.length();
       if (full <= 1e-6) continue;
       ++out->curves;
-      std::vector<CutPiece> pieces = clear_pieces(run.pts, run.t, centre_fn(), model_, clearance_, tol_);
-      // A whole closed curve cut once: the pieces meet across its start.
-      if (curve_.closed && run.t.front() == t_.front() && run.t.back() == t_.back())
+      std::vector<CutPiece> pieces =
+          clear_pieces(run.pts, run.t, centre_fn(), model_, clearance_, tol_);
+      const bool whole = curve_.closed && run.t.front() == t_.front() && run.t.back() == t_.back();
+      if (whole && pieces.size() == 1 && pieces[0].t.front() == run.t.front() &&
+          pieces[0].t.back() == run.t.back()) {
+        start_at_least_along(&pieces[0]);
+      } else if (whole) {
+        // A whole closed curve cut by the clearance: the pieces meet across
+        // its start.
         join_across_start(&pieces, run.t.front(), run.t.back(), map_.last());
+      }
       double kept = 0.0;
       for (CutPiece& piece : pieces) {
         kept += piece.length();
@@ -123,10 +134,10 @@ class CurveCutter {
   // The curve within the chord tolerance, vertex to vertex of the lattice
   // crossings, remembering the parameters (u, v) of every point kept.
   void linearise() {
-    std::unordered_map<double, UV> seen;
+    std::unordered_map<double, std::pair<UV, bool>> seen;  // parameters, usable()
     auto f = [&](double t) {
       const LevelCurveMap::Point q = map_.at(t);
-      seen[t] = q.p.uv;
+      seen[t] = {q.p.uv, usable(q)};
       return q.p.centre;
     };
     const std::size_t n = map_.vertices().size();
@@ -136,46 +147,50 @@ class CurveCutter {
       for (std::size_t k = i == 0 ? 0 : 1; k < seg.size(); ++k) {
         pts_.push_back(seg[k]);
         t_.push_back(ts[k]);
-        uv_.push_back(seen.at(ts[k]));
+        uv_.push_back(seen.at(ts[k]).first);
+        ok_.push_back(seen.at(ts[k]).second);
       }
     }
   }
 
-  bool inside(const UV& q) const { return trim_.contains_exact(q.u, q.v); }
+  // A point is cut if it is inside the trimmed face and on the level curve:
+  // where the map found no exact point (see LevelCurveMap) a gap is left
+  // rather than a chord that may leave the offset.
+  bool usable(const LevelCurveMap::Point& q) const {
+    return q.exact && trim_.contains_exact(q.p.uv.u, q.p.uv.v);
+  }
 
-  // Parameter of the face boundary between t_in (inside) and t_out, by
-  // bisection to 1e-4 of the chord tolerance in space.
+  // Parameter of the end of the usable part between t_in (usable) and
+  // t_out, by bisection to 1e-4 of the chord tolerance in space.
   double boundary(double t_in, double t_out) const {
     for (int it = 0; it < 60; ++it) {
       if (map_.at(t_in).p.centre.Distance(map_.at(t_out).p.centre) <= 1e-4 * tol_) break;
       const double m = 0.5 * (t_in + t_out);
-      (inside(map_.at(m).p.uv) ? t_in : t_out) = m;
+      (usable(map_.at(m)) ? t_in : t_out) = m;
     }
     return t_in;
   }
 
-  // The runs of the linearised curve inside the trimmed face. A chord whose
-  // parameter box may meet the face boundary is also tested at interior
-  // points (a hole can lie between two vertices inside), spaced about the
-  // quadtree's resolution of the boundary apart.
+  // The usable runs of the linearised curve (inside the trimmed face). A
+  // chord whose parameter box may meet the face boundary is also tested at
+  // 7 interior points (a hole can lie between two vertices inside).
   std::vector<Run> inside_runs() const {
     std::vector<Run> runs;
     Run cur;
     const std::size_t n = pts_.size();
-    std::vector<char> in(n);
-    for (std::size_t j = 0; j < n; ++j) in[j] = inside(uv_[j]);
+    const std::vector<char>& in = ok_;
     if (in[0]) cur.push(pts_[0], t_[0]);
     for (std::size_t j = 0; j + 1 < n; ++j) {
       const UV& a = uv_[j];
       const UV& b = uv_[j + 1];
       std::vector<std::pair<double, bool>> samples;
-      const int state = trim_.classify_rect(std::min(a.u, b.u), std::max(a.u, b.u), std::min(a.v, b.v),
-                                            std::max(a.v, b.v));
+      const int state = trim_.classify_rect(std::min(a.u, b.u), std::max(a.u, b.u),
+                                            std::min(a.v, b.v), std::max(a.v, b.v));
       if (state == 0) {
         const int m = 8;
         for (int q = 1; q < m; ++q) {
           const double t = t_[j] + (t_[j + 1] - t_[j]) * q / m;
-          samples.emplace_back(t, inside(map_.at(t).p.uv));
+          samples.emplace_back(t, usable(map_.at(t)));
         }
       }
       samples.emplace_back(t_[j + 1], in[j + 1] != 0);
@@ -200,6 +215,26 @@ class CurveCutter {
     return runs;
   }
 
+  // A closed loop starts where the marching squares happened to begin it:
+  // start it where it is least along the passes' direction instead, so that
+  // the loops of adjacent planes start next to each other (short links).
+  void start_at_least_along(CutPiece* loop) const {
+    const std::size_t n = loop->pts.size();
+    std::size_t j = 0;
+    for (std::size_t k = 1; k + 1 < n; ++k)
+      if (along(loop->pts[k]) < along(loop->pts[j])) j = k;
+    if (j == 0) return;
+    std::vector<gp_Pnt> pts(loop->pts.begin() + static_cast<std::ptrdiff_t>(j), loop->pts.end());
+    std::vector<double> t(loop->t.begin() + static_cast<std::ptrdiff_t>(j), loop->t.end());
+    for (std::size_t k = 1; k <= j; ++k) {
+      pts.push_back(loop->pts[k]);
+      t.push_back(loop->t[k] + map_.last());
+    }
+    loop->pts = std::move(pts);
+    loop->t = std::move(t);
+  }
+  double along(const gp_Pnt& p) const { return axis_ == 0 ? p.Y() : p.X(); }
+
   // delta / (distance between adjacent passes) at the lattice crossings of
   // the piece, and its ends: 1 / sqrt(1 - n_a^2), n_a the normal's
   // component along the plane axis (see IsoMetrics for ParallelPlanes).
@@ -208,7 +243,8 @@ class CurveCutter {
       const double na = axis_ == 0 ? n.X() : n.Y();
       return 1.0 / std::sqrt(std::max(1.0 - na * na, 1e-12));
     };
-    double f = std::max(factor(map_.at(piece.t.front()).p.normal), factor(map_.at(piece.t.back()).p.normal));
+    double f = std::max(factor(map_.at(piece.t.front()).p.normal),
+                        factor(map_.at(piece.t.back()).p.normal));
     const double period = map_.last();
     for (double t = std::ceil(piece.t.front()); t <= piece.t.back(); t += 1.0) {
       const double k = curve_.closed ? std::fmod(t, period) : t;
@@ -227,6 +263,7 @@ class CurveCutter {
   std::vector<gp_Pnt> pts_;
   std::vector<double> t_;
   std::vector<UV> uv_;
+  std::vector<char> ok_;  // usable()
 };
 
 // Planes c0 + k delta, 0 <= k < count, centred over [lo, hi]: every value
@@ -277,14 +314,16 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
     try {
       fn();
     } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(faces[k].index) + ": OpenCASCADE failed: " + e.GetMessageString());
+      throw GeometryError(face_label(faces[k].index) +
+                          ": OpenCASCADE failed: " + e.GetMessageString());
     }
   };
   std::vector<std::unique_ptr<OffsetLattice>> lattices(faces.size());
   for_each_index(faces.size(), params.threads, [&](std::size_t k) {
     all.check();
     on_face(k, [&] {
-      lattices[k] = std::make_unique<OffsetLattice>(*faces[k].grid, *faces[k].trim, params.ball_radius);
+      lattices[k] =
+          std::make_unique<OffsetLattice>(*faces[k].grid, *faces[k].trim, params.ball_radius);
     });
   });
   all.report(0.1);
@@ -307,14 +346,17 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
     if (lo > hi) break;  // no face has a cell inside its trimmed domain
     const Planes planes = planes_over(lo, hi, delta);
     const double na = double(axes.size()), nf = double(faces.size());
-    const ProgressSlice slice = all.sub(0.1 + 0.9 * double(ai) / na, 0.1 + 0.9 * double(ai + 1) / na);
+    const ProgressSlice slice =
+        all.sub(0.1 + 0.9 * double(ai) / na, 0.1 + 0.9 * double(ai + 1) / na);
     AxisCut cut;
     cut.faces.resize(faces.size());
     for_each_index(faces.size(), params.threads, [&](std::size_t k) {
       on_face(k, [&] {
         const ProgressSlice part = slice.sub(double(k) / nf, double(k + 1) / nf);
-        for (const LevelCurve& c : trace_levels(*lattices[k], axis, planes.c0, delta, planes.count, part)) {
-          CurveCutter(*faces[k].grid, *faces[k].trim, c, axis, planes.c0 + c.plane * delta, params, model)
+        for (const LevelCurve& c :
+             trace_levels(*lattices[k], axis, planes.c0, delta, planes.count, part)) {
+          CurveCutter(*lattices[k], *faces[k].trim, c, axis, planes.c0 + c.plane * delta, params,
+                      model)
               .cut(&cut.faces[k]);
         }
       });

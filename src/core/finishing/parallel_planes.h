@@ -18,10 +18,10 @@ struct PlaneFace {
 };
 
 struct PlanePieces {
-  std::vector<CutPiece> pieces;   // zig-zag across the planes; no grid (null)
+  std::vector<CutPiece> pieces;         // zig-zag across the planes; no grid (null)
   IsoPlaneAxis axis = IsoPlaneAxis::X;  // the axis used
-  int curves = 0;                 // plane-curve pieces inside the faces
-  double unreachable_length = 0.0;  // centre path cut away: no clearance
+  int curves = 0;                       // plane-curve pieces inside the faces
+  double unreachable_length = 0.0;      // centre path cut away: no clearance
   // Largest first-order distance between adjacent passes where the ball
   // cuts (IsoMetrics::max_iso_distance for ParallelPlanes).
   double max_pass_distance = 0.0;

@@ -40,91 +40,7 @@ double illinois(const std::function<double(double)>& f, double a, double fa, dou
 // at most, evaluated to about 1e-13 of that.
 constexpr double kLevelTol = 1e-10;
 
-// Per span of the grid along u (along_u) or v, an upper estimate of the
-// length of the iso-curves across it: the longest control polygon row of
-// any of its patches.
-std::vector<double> span_lengths(const PatchGrid& g, bool along_u) {
-  const int pu = g.degree_u(), pv = g.degree_v();
-  const int spans = along_u ? g.patches_u() : g.patches_v();
-  const int others = along_u ? g.patches_v() : g.patches_u();
-  auto at = [](const H4& h) { return gp_Pnt(h.x / h.w, h.y / h.w, h.z / h.w); };
-  std::vector<double> len(static_cast<std::size_t>(spans), 0.0);
-  for (int i = 0; i < spans; ++i) {
-    for (int j = 0; j < others; ++j) {
-      const H4* p = along_u ? g.patch(i, j) : g.patch(j, i);
-      const int rows = along_u ? pv : pu, steps = along_u ? pu : pv;
-      for (int row = 0; row <= rows; ++row) {
-        double l = 0.0;
-        for (int k = 0; k < steps; ++k) {
-          const int i0 = along_u ? k + (pu + 1) * row : row + (pu + 1) * k;
-          const int i1 = along_u ? k + 1 + (pu + 1) * row : row + (pu + 1) * (k + 1);
-          l += at(p[i0]).Distance(at(p[i1]));
-        }
-        len[static_cast<std::size_t>(i)] = std::max(len[static_cast<std::size_t>(i)], l);
-      }
-    }
-  }
-  return len;
-}
-
-// Lattice lines along one direction: every span boundary, each span cut
-// into ceil(length / cell) parts (2 to 64), at most about 4096 cells in all.
-std::vector<double> lattice_lines(const std::vector<double>& breaks, const std::vector<double>& len,
-                                  double cell) {
-  std::vector<int> parts(len.size());
-  long total = 0;
-  for (std::size_t i = 0; i < len.size(); ++i) {
-    parts[i] = static_cast<int>(std::clamp(std::ceil(len[i] / cell), 2.0, 64.0));
-    total += parts[i];
-  }
-  const long cap = 4096;
-  if (total > cap)
-    for (int& p : parts) p = std::max(1, static_cast<int>(double(p) * cap / double(total)));
-  std::vector<double> out;
-  for (std::size_t i = 0; i < len.size(); ++i)
-    for (int s = 0; s < parts[i]; ++s)
-      out.push_back(breaks[i] + (breaks[i + 1] - breaks[i]) * s / parts[i]);
-  out.push_back(breaks.back());
-  return out;
-}
-
 }  // namespace
-
-OffsetPoint offset_point(const PatchGrid& g, double u, double v, double r) {
-  const SurfaceDerivs d = g.d1(u, v);
-  const gp_Vec n = g.normal(u, v, &d);
-  return {{u, v}, d.p.Translated(n * r), n};
-}
-
-OffsetLattice::OffsetLattice(const PatchGrid& grid, const TrimDomain& trim, double r)
-    : grid_(&grid), r_(r) {
-  const double cell = 0.25 * r;
-  us_ = lattice_lines(grid.ubreaks(), span_lengths(grid, true), cell);
-  vs_ = lattice_lines(grid.vbreaks(), span_lengths(grid, false), cell);
-  centres_.resize(us_.size() * vs_.size());
-  for (int b = 0; b <= cells_v(); ++b)
-    for (int a = 0; a <= cells_u(); ++a) centres_[node(a, b)] = offset_point(grid, u(a), v(b), r).centre;
-  used_.resize(static_cast<std::size_t>(cells_u() * cells_v()));
-  for (int b = 0; b < cells_v(); ++b)
-    for (int a = 0; a < cells_u(); ++a)
-      used_[static_cast<std::size_t>(a + cells_u() * b)] =
-          trim.classify_rect(u(a), u(a + 1), v(b), v(b + 1)) != -1;
-}
-
-bool OffsetLattice::range(int axis, double* lo, double* hi) const {
-  *lo = 1e300;
-  *hi = -1e300;
-  for (int b = 0; b < cells_v(); ++b)
-    for (int a = 0; a < cells_u(); ++a) {
-      if (!used(a, b)) continue;
-      for (int k = 0; k < 4; ++k) {
-        const double x = axis_coord(centre(a + (k & 1), b + (k >> 1)), axis);
-        *lo = std::min(*lo, x);
-        *hi = std::max(*hi, x);
-      }
-    }
-  return *lo <= *hi;
-}
 
 namespace {
 
@@ -132,8 +48,7 @@ namespace {
 // lattice edge from node (a, b) along u, 2 node + 1 along v.
 class PlaneTracer {
  public:
-  PlaneTracer(const OffsetLattice& l, int axis, double level)
-      : l_(l), axis_(axis), level_(level) {}
+  PlaneTracer(const OffsetLattice& l, int axis, double level) : l_(l), axis_(axis), level_(level) {}
 
   std::vector<LevelCurve> trace(const std::vector<int>& cells, int plane) {
     for (int cell : cells) add_cell(cell % l_.cells_u(), cell / l_.cells_u());
@@ -146,8 +61,10 @@ class PlaneTracer {
         if (done[s]) continue;
         long start = segs_[s][0];
         if (pass == 0) {
-          if (count(segs_[s][1]) == 1) start = segs_[s][1];
-          else if (count(start) != 1) continue;
+          if (count(segs_[s][1]) == 1)
+            start = segs_[s][1];
+          else if (count(start) != 1)
+            continue;
         }
         LevelCurve c = chain(static_cast<int>(s), start, &done);
         c.plane = plane;
@@ -239,15 +156,10 @@ class PlaneTracer {
     const int a = static_cast<int>(nodes % (l_.cells_u() + 1));
     const int b = static_cast<int>(nodes / (l_.cells_u() + 1));
     const int a1 = a + ((e & 1) ? 0 : 1), b1 = b + ((e & 1) ? 1 : 0);
-    const double u0 = l_.u(a), v0 = l_.v(b), u1 = l_.u(a1), v1 = l_.v(b1);
-    const PatchGrid& grid = l_.grid();
-    const double r = l_.radius();
-    auto f = [&](double s) {
-      return axis_coord(offset_point(grid, u0 + (u1 - u0) * s, v0 + (v1 - v0) * s, r).centre, axis_) -
-             level_;
-    };
+    auto point = [&](double s) { return l_.at(a + (a1 - a) * s, b + (b1 - b) * s); };
+    auto f = [&](double s) { return axis_coord(point(s).centre, axis_) - level_; };
     const double s = illinois(f, 0.0, g(a, b), 1.0, g(a1, b1), kLevelTol);
-    OffsetPoint p = offset_point(grid, u0 + (u1 - u0) * s, v0 + (v1 - v0) * s, r);
+    OffsetPoint p = point(s);
     (axis_ == 0 ? p.centre.SetX(level_) : p.centre.SetY(level_));
     vertices_.emplace(e, p);
     return p;
@@ -289,15 +201,16 @@ std::vector<LevelCurve> trace_levels(const OffsetLattice& l, int axis, double c0
     progress.check();
     if (cells[static_cast<std::size_t>(k)].empty()) continue;
     PlaneTracer tracer(l, axis, c0 + k * delta);
-    for (LevelCurve& c : tracer.trace(cells[static_cast<std::size_t>(k)], k)) out.push_back(std::move(c));
+    for (LevelCurve& c : tracer.trace(cells[static_cast<std::size_t>(k)], k))
+      out.push_back(std::move(c));
     progress.report(double(k + 1) / count);
   }
   return out;
 }
 
-LevelCurveMap::LevelCurveMap(const PatchGrid& grid, const LevelCurve& curve, int axis, double level,
-                             double r)
-    : grid_(&grid), closed_(curve.closed), axis_(axis), level_(level), r_(r) {
+LevelCurveMap::LevelCurveMap(const OffsetLattice& lattice, const LevelCurve& curve, int axis,
+                             double level)
+    : lattice_(&lattice), closed_(curve.closed), axis_(axis), level_(level) {
   pts_.push_back(curve.pts.front());
   for (std::size_t i = 0; i + 1 < curve.pts.size(); ++i) refine(curve.pts[i], curve.pts[i + 1], 0);
 }
@@ -319,11 +232,11 @@ void LevelCurveMap::refine(const OffsetPoint& a, const OffsetPoint& b, int depth
 
 bool LevelCurveMap::across(const OffsetPoint& a, const OffsetPoint& b, double s, double reach,
                            double* w_out, OffsetPoint* out) const {
-  const UV& A = a.uv;
-  const UV& B = b.uv;
+  const UV& A = a.lc;
+  const UV& B = b.lc;
   const UV m{A.u + (B.u - A.u) * s, A.v + (B.v - A.v) * s};
   const UV d{-(B.v - A.v), B.u - A.u};  // across the chord, as long as it
-  // Reach along d: `reach` chord lengths either way, within the grid.
+  // Reach along d: `reach` chord lengths either way, within the lattice.
   double lo = -reach, hi = reach;
   auto limit = [&](double x, double dx, double xmin, double xmax) {
     if (dx > 0) {
@@ -334,14 +247,13 @@ bool LevelCurveMap::across(const OffsetPoint& a, const OffsetPoint& b, double s,
       lo = std::max(lo, (xmax - x) / dx);
     }
   };
-  limit(m.u, d.u, grid_->umin(), grid_->umax());
-  limit(m.v, d.v, grid_->vmin(), grid_->vmax());
-  auto f = [&](double w) {
-    return axis_coord(offset_point(*grid_, m.u + d.u * w, m.v + d.v * w, r_).centre, axis_) - level_;
-  };
+  limit(m.u, d.u, 0.0, lattice_->cells_u());
+  limit(m.v, d.v, 0.0, lattice_->cells_v());
+  auto point = [&](double w) { return lattice_->at(m.u + d.u * w, m.v + d.v * w); };
+  auto f = [&](double w) { return axis_coord(point(w).centre, axis_) - level_; };
   auto finish = [&](double w) {
     *w_out = w;
-    *out = offset_point(*grid_, m.u + d.u * w, m.v + d.v * w, r_);
+    *out = point(w);
     (axis_ == 0 ? out->centre.SetX(level_) : out->centre.SetY(level_));
     return true;
   };
@@ -391,8 +303,10 @@ LevelCurveMap::Point LevelCurveMap::at(double t) const {
   if (across(pts_[i], pts_[i + 1], s, 1.0, &w, &p.p)) return p;
   // No root in reach: the straight chord between the two centres.
   p.exact = false;
-  p.p.uv = {pts_[i].uv.u + (pts_[i + 1].uv.u - pts_[i].uv.u) * s,
-            pts_[i].uv.v + (pts_[i + 1].uv.v - pts_[i].uv.v) * s};
+  const OffsetPoint q = lattice_->at(pts_[i].lc.u + (pts_[i + 1].lc.u - pts_[i].lc.u) * s,
+                                     pts_[i].lc.v + (pts_[i + 1].lc.v - pts_[i].lc.v) * s);
+  p.p.lc = q.lc;
+  p.p.uv = q.uv;
   p.p.centre = gp_Pnt(pts_[i].centre.XYZ() * (1 - s) + pts_[i + 1].centre.XYZ() * s);
   const gp_Vec n = pts_[i].normal * (1 - s) + pts_[i + 1].normal * s;
   p.p.normal = n.Magnitude() > 1e-12 ? n.Normalized() : pts_[i].normal;

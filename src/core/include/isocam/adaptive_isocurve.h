@@ -120,9 +120,10 @@ struct IsoResult {
 //    the clearance cuts, as for isocurves);
 //  - `max_iso_distance` is the largest distance between adjacent passes on
 //    the offset surface, to first order: delta / sqrt(1 - n_a^2) with n_a the
-//    surface normal's component along the plane axis, taken at the points
-//    where the passes cross the core's sampling lattice (about r/4 apart)
-//    and only where the ball cuts. It equals delta on flat ground and grows
+//    surface normal's component along the plane axis, taken at the
+//    vertices of the traced plane curves (where they cross the core's
+//    sampling lattice, r/4 apart or closer) and the ends of the pieces cut.
+//    It equals delta on flat ground and grows
 //    without bound on walls facing the axis (capped at 1e6 delta), which is
 //    the pattern's weakness; `guaranteed_scallop` is the flat-ground scallop
 //    of that spacing (at most the ball radius).
