@@ -361,3 +361,57 @@ TEST(ParallelPlanes, OneAndManyThreadsGiveTheSamePath) {
 
 }  // namespace
 }  // namespace isocam
+
+namespace isocam {
+namespace {
+
+// The contact points of a path's feed moves on a face (each centre's foot
+// by OpenCASCADE's projection), as segments.
+test::SegmentIndex contact_segments(const TopoDS_Face& face, const IsoResult& res, double r) {
+  Handle(Geom_Surface) s = BRep_Tool::Surface(face);
+  test::SegmentIndex out(res.metrics.delta);
+  std::vector<gp_Pnt> feet;
+  for (const gp_Pnt& c : feed_centres(res.path, r)) {
+    GeomAPI_ProjectPointOnSurf proj(c, s);
+    if (proj.NbPoints() > 0) feet.push_back(proj.NearestPoint());
+  }
+  out.add_polyline(feet);
+  return out;
+}
+
+TEST(ParallelPlanes, Figure2ComparedWithAdaptive) {
+  // Elber & Cohen's Figure 2b: on this nearly flat surface contouring "is
+  // more optimal" than complete isocurves. With the flat-ground stepover the
+  // planes leave passes farther apart than delta where the surface tilts
+  // towards them; spaced delta^2 / (that distance) apart they meet the
+  // guarantee everywhere (Definition 1 on a dense sampling of the face).
+  const TopoDS_Face f = test::figure2_ruled_surface();
+  const double r = 5.0;
+  IsoParams p;
+  p.ball_radius = r;
+  p.scallop_height = 0.1;
+  p.direction = IsoDirection::V;
+  p.safe_z = 100;
+  const IsoResult adaptive = adaptive_isocurve(f, {0}, p);
+  p.pattern = IsoPattern::ParallelPlanes;
+  const IsoResult planes = adaptive_isocurve(f, {0}, p);
+  const double delta = planes.metrics.delta;
+  EXPECT_GT(planes.metrics.max_iso_distance, delta);
+  const double spacing = delta * delta / planes.metrics.max_iso_distance;
+  p.scallop_height = scallop_for_stepover(r, spacing);
+  p.plane_axis = planes.plane_axis;
+  const IsoResult dense = adaptive_isocurve(f, {0}, p);
+  EXPECT_LE(dense.metrics.max_iso_distance, delta * (1 + 1e-6));
+  const double gap = test::coverage_gap(f, contact_segments(f, dense, r), 150, 2 * delta);
+  std::cout << "Figure 2: adaptive " << adaptive.metrics.cutting_length << " mm, planes "
+            << planes.metrics.cutting_length << " mm (passes up to "
+            << planes.metrics.max_iso_distance << " apart, delta " << delta << ", planes "
+            << (planes.plane_axis == IsoPlaneAxis::X ? "x" : "y") << "), planes " << spacing
+            << " apart: " << dense.metrics.cutting_length << " mm (passes up to "
+            << dense.metrics.max_iso_distance << " apart, coverage gap " << gap << "); pieces "
+            << planes.metrics.sub_isocurves << " and " << dense.metrics.sub_isocurves << "\n";
+  EXPECT_LT(gap, delta);
+}
+
+}  // namespace
+}  // namespace isocam
