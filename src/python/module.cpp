@@ -32,6 +32,7 @@ struct PyIsoResult {
   std::vector<std::string> face_direction;
   std::vector<SubIsocurve> curves;
   std::vector<std::string> warnings;
+  IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;
 };
 
 PyIsoResult to_python(IsoResult&& r) {
@@ -51,6 +52,7 @@ PyIsoResult to_python(IsoResult&& r) {
   for (IsoDirection d : r.face_direction) out.face_direction.emplace_back(direction_name(d));
   out.curves = std::move(r.curves);
   out.warnings = std::move(r.warnings);
+  out.plane_axis = r.plane_axis;
   return out;
 }
 
@@ -93,7 +95,12 @@ PYBIND11_MODULE(isocam_core, m) {
       .value("V", IsoDirection::V);
   py::enum_<IsoPattern>(m, "IsoPattern")
       .value("Adaptive", IsoPattern::Adaptive)
-      .value("Uniform", IsoPattern::Uniform);
+      .value("Uniform", IsoPattern::Uniform)
+      .value("ParallelPlanes", IsoPattern::ParallelPlanes);
+  py::enum_<IsoPlaneAxis>(m, "IsoPlaneAxis")
+      .value("Auto", IsoPlaneAxis::Auto)
+      .value("X", IsoPlaneAxis::X)
+      .value("Y", IsoPlaneAxis::Y);
   py::enum_<IsoScallopBound>(m, "IsoScallopBound")
       .value("Flat", IsoScallopBound::Flat)
       .value("Curvature", IsoScallopBound::Curvature);
@@ -106,6 +113,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readwrite("direction", &IsoParams::direction)
       .def_readwrite("pattern", &IsoParams::pattern)
       .def_readwrite("scallop_bound", &IsoParams::scallop_bound)
+      .def_readwrite("plane_axis", &IsoParams::plane_axis)
       .def_readwrite("safe_z", &IsoParams::safe_z)
       .def_readwrite("max_depth", &IsoParams::max_depth)
       .def_readwrite("gouge_tolerance", &IsoParams::gouge_tolerance)
@@ -146,7 +154,8 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("metrics", &PyIsoResult::metrics)
       .def_readonly("face_direction", &PyIsoResult::face_direction)
       .def_readonly("curves", &PyIsoResult::curves)
-      .def_readonly("warnings", &PyIsoResult::warnings);
+      .def_readonly("warnings", &PyIsoResult::warnings)
+      .def_readonly("plane_axis", &PyIsoResult::plane_axis, "ParallelPlanes: the axis used");
 
   m.attr("RAPID") = 0;
   m.attr("FEED") = 1;

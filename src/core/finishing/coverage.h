@@ -1,6 +1,7 @@
 // Internal: isocurve coverages of one face and the path through them.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include <gp_Pnt.hxx>
@@ -44,7 +45,9 @@ struct FacePathStats {
 // A piece of path: ball centres along (part of) one sub-isocurve, every
 // chord clear of the model.
 struct CutPiece {
-  const PatchGrid* grid = nullptr;  // working grid: the curve is its iso-v line
+  // Working grid: the curve is its iso-v line at `level`. Null for a
+  // parallel-plane curve, which has no iso level (`level` is its plane).
+  const PatchGrid* grid = nullptr;
   double level = 0.0;
   std::vector<gp_Pnt> pts;          // ball centres
   std::vector<double> t;            // curve parameter of each
@@ -60,6 +63,15 @@ struct CutPiece {
 std::vector<CutPiece> face_pieces(const PatchGrid& grid, std::vector<SubIsocurve> curves,
                                   const IsoParams& params, const ClearanceModel& model,
                                   FacePathStats* stats);
+
+// The runs of a ball-centre polyline (vertices `pts` at increasing curve
+// parameters `t`; `at` evaluates the exact curve) where the ball keeps
+// `clearance` from the model, cut exactly where they start to violate, as
+// face_pieces() does for isocurves. The pieces have no grid (null): links to
+// them are straight.
+std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::vector<double>& t,
+                                   const std::function<gp_Pnt(double)>& at,
+                                   const ClearanceModel& model, double clearance, double tol);
 
 // Orders and links pieces (of one face or many) into a path. Greedy: from
 // the end of a piece, the nearest piece end (either direction) that a feed

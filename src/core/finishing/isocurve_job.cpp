@@ -17,6 +17,7 @@
 
 #include "finishing/coverage.h"
 #include "finishing/stepover.h"
+#include "finishing/parallel_planes.h"
 #include "geometry/trim_domain.h"
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -159,6 +160,29 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const double nf = double(faces.size());
   std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
   std::vector<CutPiece> pieces;
+  // ParallelPlanes: all faces share one set of planes, so they are cut
+  // together (parallel_planes.cpp) and the per-face work below has none.
+  const bool planes = params.pattern == IsoPattern::ParallelPlanes;
+  if (planes) {
+    std::vector<PlaneFace> plane_faces;
+    for (std::size_t k : picked)
+      plane_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
+    PlanePieces cut = parallel_plane_pieces(plane_faces, delta, params, model, progress);
+    result.plane_axis = cut.axis;
+    result.face_direction.assign(picked.size(), IsoDirection::Auto);
+    result.metrics.sub_isocurves = cut.curves;
+    result.metrics.unreachable_length = cut.unreachable_length;
+    max_dist = cut.max_pass_distance;
+    // Not a certificate: the flat-ground scallop of the largest pass
+    // distance (see the header).
+    max_scallop = scallop_for_stepover(params.ball_radius, max_dist);
+    result.metrics.delta_max = delta;
+    for (std::size_t k : picked)
+      result.metrics.lower_bound_length +=
+          lower_bound_length(model_faces[k].grid, &*model_faces[k].trim, params.ball_radius,
+                             params.scallop_height);
+    pieces = std::move(cut.pieces);
+  }
   // Faces, and the directions of one face under Auto, are independent until
   // linking: compute them as tasks (face, direction) on several threads
   // (two directions of one face share its trimmed domain, whose hatcher is
@@ -166,7 +190,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   // the result does not depend on the number of threads.
   const std::vector<IsoDirection> dirs = directions_to_try(params);
   const std::size_t nd = dirs.size();
-  const std::size_t tasks = picked.size() * nd;
+  const std::size_t tasks = planes ? 0 : picked.size() * nd;
   std::vector<FaceResult> tried(tasks);
   std::vector<std::exception_ptr> failed(tasks);
   std::atomic<std::size_t> next{0};
@@ -202,8 +226,8 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
   // Per face, the first direction tried unless another cuts strictly less.
-  std::vector<FaceResult> done(picked.size());
-  for (std::size_t f = 0; f < picked.size(); ++f) {
+  std::vector<FaceResult> done(planes ? 0 : picked.size());
+  for (std::size_t f = 0; f < done.size(); ++f) {
     std::size_t best = f * nd;
     for (std::size_t di = 1; di < nd; ++di)
       if (tried[f * nd + di].cut_length < tried[best].cut_length) best = f * nd + di;

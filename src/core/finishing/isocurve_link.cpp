@@ -12,11 +12,12 @@ namespace {
 // A feed link from the end of `a` to the start of `b`, or an empty vector if
 // none keeps the ball clear of the model. Between pieces of one face the
 // link follows the offset surface along the straight parameter segment (the
-// ball stays tangent to the face); otherwise it is a straight move.
+// ball stays tangent to the face); otherwise (other faces, or pieces with
+// no grid such as parallel-plane curves) it is a straight move.
 std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, const IsoParams& params,
                               const ClearanceModel& model, double clearance) {
   std::vector<gp_Pnt> link;
-  if (a.grid == b.grid) {
+  if (a.grid && a.grid == b.grid) {
     const PatchGrid& g = *a.grid;
     const double r = params.ball_radius;
     const double t0 = a.t.back(), v0 = a.level, t1 = b.t.front(), v1 = b.level;

@@ -306,4 +306,16 @@ std::vector<CutPiece> face_pieces(const PatchGrid& g, std::vector<SubIsocurve> c
   return pieces;
 }
 
+std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::vector<double>& t,
+                                   const std::function<gp_Pnt(double)>& at,
+                                   const ClearanceModel& model, double clearance, double tol) {
+  CentrePolyline line;
+  line.pts = pts;
+  line.t = t;
+  std::vector<CutPiece> out;
+  for (CentrePolyline& run : RunSplitter(at, model, clearance, tol).split(line))
+    out.push_back({nullptr, 0.0, std::move(run.pts), std::move(run.t)});
+  return out;
+}
+
 }  // namespace isocam

@@ -264,4 +264,10 @@ bool TrimDomain::contains(double u, double v) const {
   return query_quadtree(0, p, p) >= 0;
 }
 
+bool TrimDomain::contains_exact(double u, double v) const {
+  const int quick = classify_rect(u, u, v, v);
+  if (quick != 0) return quick > 0;
+  return classifier_->Perform(gp_Pnt2d(to_face(0, u), to_face(1, v))) != TopAbs_OUT;
+}
+
 }  // namespace isocam

@@ -40,6 +40,12 @@ class TrimDomain {
   // where counting a little too much of the surface as face only protects).
   bool contains(double u, double v) const;
 
+  // True if the grid point (u, v) is inside the face or on its boundary, to
+  // the face classifier's tolerance (1e-9 in the face's parameters): exact,
+  // unlike contains(). The quadtree decides where it can, the classifier
+  // (one projection per parameter on analytic faces) elsewhere.
+  bool contains_exact(double u, double v) const;
+
   // The grid rectangle [u0, u1] x [v0, v1]: -1 entirely outside the face,
   // 1 entirely inside, 0 it may meet the boundary. Exact in that a rectangle
   // reported inside or outside is; 0 is the conservative answer.

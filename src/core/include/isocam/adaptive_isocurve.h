@@ -41,6 +41,17 @@ enum class IsoDirection {
 enum class IsoPattern {
   Adaptive,  // Algorithm 1: sub-isocurves only where needed
   Uniform,   // baseline: complete isocurves equally spaced in parameter
+  // Baseline of the paper's Figures 2b/3b: the ball centre driven on the
+  // offset S + r N in parallel planes of constant x (or y) delta apart, as
+  // commercial raster finishing does. See "ParallelPlanes" below.
+  ParallelPlanes,
+};
+
+// The planes of IsoPattern::ParallelPlanes.
+enum class IsoPlaneAxis {
+  Auto,  // the axis whose pieces are shorter in all, over all picked faces (before linking)
+  X,     // planes x = const (the passes run along y)
+  Y,     // planes y = const (the passes run along x)
 };
 
 enum class IsoScallopBound {
@@ -55,6 +66,7 @@ struct IsoParams {
   IsoDirection direction = IsoDirection::Auto;
   IsoPattern pattern = IsoPattern::Adaptive;
   IsoScallopBound scallop_bound = IsoScallopBound::Curvature;
+  IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes only
   double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
   double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
@@ -113,7 +125,32 @@ struct IsoResult {
   std::vector<SubIsocurve> curves;        // the coverage, in machining order
   std::vector<IsoDirection> face_direction;  // direction used per picked face
   std::vector<std::string> warnings;         // e.g. a face that could not be protected
+  IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes: the axis used (X or Y)
 };
+
+// ParallelPlanes (the baseline the adaptive isocurves are compared with):
+// planes of constant x (or y) delta apart, centred over the range that the
+// ball centre takes on the picked faces; in each plane the ball centre
+// follows the curves where the plane meets the offset S + r N of each face
+// (rolling around the face's own creases), within the chord tolerance and
+// every vertex exactly in its plane; kept where the contact point is inside
+// the trimmed face, cut by the same global clearance check, zig-zag across
+// the planes and linked like the isocurve pieces (straight feed links,
+// checked for clearance, or retracts). All picked faces share one set of
+// planes. The curves are traced on a lattice of cells about r/4 across, so
+// a loop of a plane curve smaller than that can be missed. For this pattern:
+//  - `curves` is empty and every `face_direction` is Auto (there are no
+//    isocurves); `plane_axis` says which axis was used;
+//  - `sub_isocurves` counts the plane-curve pieces inside the faces (before
+//    the clearance cuts, as for isocurves);
+//  - `max_iso_distance` is the largest distance between adjacent passes on
+//    the offset surface, to first order: delta / sqrt(1 - n_a^2) with n_a
+//    the surface normal's component along the plane axis, taken at the
+//    vertices of the traced plane curves (where they cross the lattice) and
+//    the ends of the pieces cut. It equals delta on flat ground and grows
+//    without bound on walls facing the axis (capped at 1e6 delta), which is
+//    the pattern's weakness (the paper's Figure 3b); `guaranteed_scallop` is
+//    the flat-ground scallop of that spacing (at most the ball radius).
 
 // delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2).
 double stepover_for_scallop(double ball_radius, double scallop_height);
