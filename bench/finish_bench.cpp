@@ -56,6 +56,7 @@ const char* pattern_name(IsoPattern p) {
   switch (p) {
     case IsoPattern::Adaptive: return "Adaptive";
     case IsoPattern::Uniform: return "Uniform";
+    case IsoPattern::ParallelPlanes: return "ParallelPlanes";
   }
   return "?";
 }
@@ -188,7 +189,7 @@ int main(int argc, char** argv) {
   if (quick) models.resize(2);
   std::vector<Row> rows;
   for (const Model& m : models)
-    for (IsoPattern pat : {IsoPattern::Adaptive, IsoPattern::Uniform}) {
+    for (IsoPattern pat : {IsoPattern::Adaptive, IsoPattern::Uniform, IsoPattern::ParallelPlanes}) {
       try {
         rows.push_back(run(m, pat));
       } catch (const std::exception& e) {

@@ -63,7 +63,7 @@ class Binding(unittest.TestCase):
             seg[kind[1:] == core.PLUNGE].sum(), m.plunge_length, delta=1e-6
         )
         self.assertEqual(int((kind == core.PLUNGE).sum()), m.retracts)
-        self.assertLessEqual(m.max_iso_distance, m.delta)
+        self.assertLessEqual(m.max_iso_distance, m.delta_max)
         self.assertLessEqual(m.guaranteed_scallop, 0.05)
         self.assertAlmostEqual(
             m.delta, 2 * math.sqrt(2 * 3.0 * 0.05 - 0.05**2), places=12

@@ -80,7 +80,7 @@ class ParallelPlanesOnMat(unittest.TestCase):
     def test_planes_are_too_sparse_on_steep_walls(self):
         # Figure 3b: same h, fewer and sparser passes than the adaptive path.
         a, p = self.adaptive.metrics, self.planes.metrics
-        self.assertLessEqual(a.max_iso_distance, a.delta)
+        self.assertLessEqual(a.max_iso_distance, a.delta_max)
         self.assertGreater(p.max_iso_distance, 2 * p.delta)
         self.assertGreater(p.guaranteed_scallop, H)
         self.assertLess(p.cutting_length, a.cutting_length)
