@@ -210,6 +210,12 @@ ModelCloud::Hit ModelCloud::nearest(const gp_Pnt& p, const std::vector<char>* on
         }
     if (hit.distance < static_cast<double>(reach) * cell_) break;  // farther shells are farther
   }
+  return refine(p, arg, hit.distance);
+}
+
+ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist) const {
+  Hit hit;
+  hit.distance = dist;
   const Sample& q = pts_[arg];
   const Surface& s = surfs_[static_cast<std::size_t>(q.face)];
   hit.point = q.p;
@@ -225,9 +231,9 @@ ModelCloud::Hit ModelCloud::nearest(const gp_Pnt& p, const std::vector<char>* on
     gp_Vec su, sv, suu, svv, suv;
     s.surf->D2(u, v, x, su, sv, suu, svv, suv);
     const gp_Vec d(p, x);
-    const double dist = d.Magnitude();
-    if (dist < hit.distance) {
-      hit.distance = dist;
+    const double here = d.Magnitude();
+    if (here < hit.distance) {
+      hit.distance = here;
       hit.point = x;
     }
     const double gu = su.Dot(d), gv = sv.Dot(d);
@@ -263,6 +269,34 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
   return best;
 }
 
+std::vector<ModelCloud::Hit> ModelCloud::nearest_per_face(const gp_Pnt& p, double radius,
+                                                          const std::vector<char>* only) const {
+  // The nearest sample of each face within `radius` (cells within reach),
+  // each refined on its own surface.
+  const long reach = static_cast<long>(std::ceil(radius / cell_));
+  const long ci = static_cast<long>(std::floor(p.X() / cell_));
+  const long cj = static_cast<long>(std::floor(p.Y() / cell_));
+  const long ck = static_cast<long>(std::floor(p.Z() / cell_));
+  std::unordered_map<int, std::pair<double, std::size_t>> best;
+  for (long i = ci - reach; i <= ci + reach; ++i)
+    for (long j = cj - reach; j <= cj + reach; ++j)
+      for (long k = ck - reach; k <= ck + reach; ++k) {
+        auto it = grid_.find(key(i, j, k));
+        if (it == grid_.end()) continue;
+        for (std::size_t id : it->second) {
+          const int f = pts_[id].face;
+          if (only && !(*only)[static_cast<std::size_t>(f)]) continue;
+          const double d = p.Distance(pts_[id].p);
+          if (d > radius) continue;
+          auto b = best.find(f);
+          if (b == best.end() || d < b->second.first) best[f] = {d, id};
+        }
+      }
+  std::vector<Hit> out;
+  for (const auto& [f, b] : best) out.push_back(refine(p, b.second, b.first));
+  return out;
+}
+
 WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<int>& picked,
                                   const Toolpath& path, double r, double step, int n,
                                   double reach_tol, double gap_cap) {
@@ -275,36 +309,43 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
   }
   const ModelCloud model(all, r / 4, true);
   WholeModelCheck out;
-  // Ball centres along the feed moves, and their contact points, as runs.
+  out.face_gap.assign(picked.size(), 0.0);
+  // Ball centres along the feed moves, and their contact points on each
+  // face they touch, as runs per face.
   SegmentIndex contacts(gap_cap);
-  std::vector<gp_Pnt> run;
-  auto flush = [&]() {
-    contacts.add_polyline(run);
-    run.clear();
+  std::unordered_map<int, std::vector<gp_Pnt>> runs;
+  std::unordered_map<int, long> last_seen;
+  long centre = 0;
+  auto flush = [&](int face) {
+    contacts.add_polyline(runs[face]);
+    runs[face].clear();
   };
+  auto flush_all = [&]() {
+    for (auto& run : runs) flush(run.first);
+  };
+  const double touch = r + 0.05;  // a ball farther than this does not cut the face
   for (std::size_t i = 1; i < path.size(); ++i) {
     if (path.kind[i] != static_cast<std::uint8_t>(MoveKind::Feed)) {
-      flush();
+      flush_all();
+      ++centre;
       continue;
     }
     const gp_Pnt a(path.x[i - 1], path.y[i - 1], path.z[i - 1] + r);
     const gp_Pnt b(path.x[i], path.y[i], path.z[i] + r);
     const int k = std::max(1, static_cast<int>(std::ceil(a.Distance(b) / step)));
-    for (int s = run.empty() ? 0 : 1; s <= k; ++s) {
+    for (int s = 1; s <= k; ++s, ++centre) {
       const gp_Pnt c(a.XYZ() + (b.XYZ() - a.XYZ()) * (double(s) / k));
       out.min_clearance = std::min(out.min_clearance, model.distance(c));
-      const ModelCloud::Hit h = model.nearest(c, &is_picked);
-      // A contact farther than r (+ slack) is not a contact: the centre is
-      // on a link between faces, not on a face's offset.
-      if (h.distance > r + 10 * step) {
-        flush();
-        continue;
+      for (const ModelCloud::Hit& h : model.nearest_per_face(c, touch + 2 * model.spacing(), &is_picked)) {
+        if (h.distance > touch) continue;
+        auto seen = last_seen.find(h.face);
+        if (seen == last_seen.end() || seen->second != centre - 1) flush(h.face);
+        last_seen[h.face] = centre;
+        runs[h.face].push_back(h.point);
       }
-      if (!run.empty() && run.back().Distance(h.point) > 4 * step + 0.5 * gap_cap) flush();
-      run.push_back(h.point);
     }
   }
-  flush();
+  flush_all();
   for (const TopoDS_Face& face : mine) {
     Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
     const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
@@ -329,6 +370,8 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
           continue;
         }
         const double gap = contacts.distance(p, gap_cap);
+        double& face_gap = out.face_gap[static_cast<std::size_t>(&face - mine.data())];
+        face_gap = std::max(face_gap, gap);
         if (gap > out.max_gap) {
           out.max_gap = gap;
           out.worst = p;

@@ -72,6 +72,10 @@ class ModelCloud {
   };
   // With `only`, the nearest point of the faces f with (*only)[f] != 0.
   Hit nearest(const gp_Pnt& p, const std::vector<char>* only = nullptr) const;
+  // The nearest point of every face (of those in `only`, if given) that has
+  // a sample within `radius` of p.
+  std::vector<Hit> nearest_per_face(const gp_Pnt& p, double radius,
+                                    const std::vector<char>* only = nullptr) const;
   double distance(const gp_Pnt& p) const { return nearest(p).distance; }
   double spacing() const { return cell_; }
 
@@ -91,6 +95,7 @@ class ModelCloud {
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
   std::int64_t key(long i, long j, long k) const;
   void add_face(const TopoDS_Face& face, int n, bool trimmed);
+  Hit refine(const gp_Pnt& p, std::size_t sample, double sample_distance) const;
   void index();
 };
 using FaceCloud = ModelCloud;
@@ -105,7 +110,8 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
 //    (tip + r z) at a distance from the trimmed model (all its faces);
 //  - coverage (Definition 1): an n x n sampling of each picked face (inside
 //    its wires) against the path's contact points (each sampled centre's
-//    nearest point on the picked faces). A sample where the ball cannot
+//    nearest point on each picked face it touches, within 0.05 mm of r: a
+//    ball on an edge touches both faces). A sample where the ball cannot
 //    touch -- its centre p + r N(p) is closer than r - reach_tol to the model
 //    -- is unreachable and counted apart; that is computed here, not taken
 //    from the core.
@@ -114,6 +120,7 @@ struct WholeModelCheck {
   double max_gap = 0.0;          // largest sample-to-contact distance, reachable samples
   gp_Pnt worst;                  // the sample where it is
   int worst_face = -1;           // and its face (index in the shape)
+  std::vector<double> face_gap;  // max_gap of each picked face
   int samples = 0, unreachable = 0;
 };
 WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<int>& picked,
