@@ -236,9 +236,21 @@ def main():
     print("  retracts             %d" % op.Retracts)
     print("  cutting length       %.1f mm" % op.CuttingLength.Value)
     print("  rapid length         %.1f mm" % op.RapidLength.Value)
-    print("  iso-distance bound   %.4f mm" % op.IsoDistanceTolerance.Value)
+    print(
+        "  iso-distance bound   %.4f mm flat, %.4f mm largest (%s bound)"
+        % (
+            op.IsoDistanceTolerance.Value,
+            op.IsoDistanceToleranceMax.Value,
+            op.ScallopBound,
+        )
+    )
     print("  max iso-distance     %.4f mm" % op.MaxIsoDistance.Value)
     print("  guaranteed scallop   %.5f mm" % op.GuaranteedScallop.Value)
+    print(
+        "  lower bound L*       %.1f mm (cutting length / L* = %.2f)"
+        % (op.LowerBoundLength.Value, op.LengthRatio)
+    )
+    print("  left unreachable     %.1f mm of centre path" % op.UnreachableLength.Value)
     print("  path commands        %d" % len(op.Path.Commands))
     print("  op recompute         %.2f s" % compute_seconds)
     print("  wall time (total)    %.2f s" % (time.monotonic() - started))

@@ -58,6 +58,18 @@ def path_points(path):
     return points
 
 
+def assert_motions_end_with(testcase, run, path):
+    """The rs274 run's motions end with exactly `path`'s moves (to the
+    posted G-code's 3 decimals)."""
+    expected = path_points(path)
+    motions = run.motions()[-len(expected) :]
+    testcase.assertEqual(len(motions), len(expected))
+    for got, want in zip(motions, expected):
+        testcase.assertEqual(got[0], want[0])
+        for a, b in zip(got[1:], want[1:]):
+            testcase.assertAlmostEqual(a, b, delta=0.0005 + 1e-9)
+
+
 def rs274_or_fail(testcase):
     """Path of LinuxCNC's rs274 (package linuxcnc-uspace) or fail the test."""
     rs274 = shutil.which("rs274")

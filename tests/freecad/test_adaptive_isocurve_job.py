@@ -172,13 +172,7 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         self.assertEqual(run.returncode, 0, run.errors)
         self.assertEqual(run.errors, [])
         # The interpreter's motions end with exactly the op's moves.
-        expected = support.path_points(op.Path)
-        motions = run.motions()[-len(expected) :]
-        self.assertEqual(len(motions), len(expected))
-        for got, want in zip(motions, expected):
-            self.assertEqual(got[0], want[0])
-            for a, b in zip(got[1:], want[1:]):
-                self.assertAlmostEqual(a, b, delta=0.0005 + 1e-9)
+        support.assert_motions_end_with(self, run, op.Path)
 
 
 class CancelTest(unittest.TestCase):

@@ -74,13 +74,7 @@ class MultiFaceJobTest(unittest.TestCase):
         self.assertEqual(run.errors, [])
         # The interpreter's motions end with exactly the two ops' moves.
         both = Path.Path(self.adaptive.Path.Commands + self.uniform.Path.Commands)
-        expected = support.path_points(both)
-        motions = run.motions()[-len(expected) :]
-        self.assertEqual(len(motions), len(expected))
-        for got, want in zip(motions, expected):
-            self.assertEqual(got[0], want[0])
-            for a, b in zip(got[1:], want[1:]):
-                self.assertAlmostEqual(a, b, delta=0.0005 + 1e-9)
+        support.assert_motions_end_with(self, run, both)
 
 
 if __name__ == "__main__":

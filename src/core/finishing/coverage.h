@@ -42,6 +42,21 @@ struct FacePathStats {
   double unreachable_length = 0.0;  // ball-centre path left out: no clearance
 };
 
+// Ball centres with the curve parameter of each.
+struct CentrePolyline {
+  std::vector<gp_Pnt> pts;
+  std::vector<double> t;
+  void push(const gp_Pnt& p, double s) {
+    pts.push_back(p);
+    t.push_back(s);
+  }
+  double length() const {
+    double s = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i) s += pts[i - 1].Distance(pts[i]);
+    return s;
+  }
+};
+
 // A piece of path: ball centres along (part of) one sub-isocurve, every
 // chord clear of the model.
 struct CutPiece {

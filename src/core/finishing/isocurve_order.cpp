@@ -13,21 +13,6 @@
 namespace isocam {
 namespace {
 
-// Ball centres with the curve parameter of each.
-struct CentrePolyline {
-  std::vector<gp_Pnt> pts;
-  std::vector<double> t;
-  void push(const gp_Pnt& p, double s) {
-    pts.push_back(p);
-    t.push_back(s);
-  }
-  double length() const {
-    double s = 0;
-    for (std::size_t i = 1; i < pts.size(); ++i) s += pts[i - 1].Distance(pts[i]);
-    return s;
-  }
-};
-
 gp_Pnt centre_at(const PatchGrid& g, int span, double t, double level, double r) {
   const SurfaceDerivs d = g.d1_on_span(span, t, level);
   return d.p.Translated(g.normal(t, level, &d) * r);

@@ -45,19 +45,7 @@ void for_each_index(std::size_t n, int threads, const std::function<void(std::si
 }
 
 // Ball centres along part of a plane curve, with the curve parameter of each.
-struct Run {
-  std::vector<gp_Pnt> pts;
-  std::vector<double> t;
-  void push(const gp_Pnt& p, double s) {
-    pts.push_back(p);
-    t.push_back(s);
-  }
-  double length() const {
-    double s = 0;
-    for (std::size_t i = 1; i < pts.size(); ++i) s += pts[i - 1].Distance(pts[i]);
-    return s;
-  }
-};
+using Run = CentrePolyline;
 
 // The plane pieces of one face along one axis.
 struct FaceCut {

@@ -297,6 +297,36 @@ std::vector<ModelCloud::Hit> ModelCloud::nearest_per_face(const gp_Pnt& p, doubl
   return out;
 }
 
+namespace {
+
+// Calls f(p, n) for an (n+1) x (n+1) sampling of the face's parameter bounds,
+// at the points inside its wires (poles, where the normal is undefined, are
+// skipped: their neighbours are sampled), n the unit normal pointing away
+// from the material.
+template <class F>
+void for_each_face_sample(const TopoDS_Face& face, int n, F f) {
+  Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
+  const BRepTopAdaptor_FClass2d classifier(TopoDS::Face(face.Oriented(TopAbs_FORWARD)), 1e-9);
+  const bool reversed = face.Orientation() == TopAbs_REVERSED;
+  double u1, u2, v1, v2;
+  BRepTools::UVBounds(face, u1, u2, v1, v2);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double u = u1 + (u2 - u1) * i / n, v = v1 + (v2 - v1) * j / n;
+      if (classifier.Perform(gp_Pnt2d(u, v)) != TopAbs_IN) continue;
+      gp_Pnt p;
+      gp_Vec su, sv;
+      surf->D1(u, v, p, su, sv);
+      gp_Vec nrm = su.Crossed(sv);
+      if (nrm.Magnitude() < 1e-12) continue;
+      nrm.Normalize();
+      if (reversed) nrm.Reverse();
+      f(p, nrm);
+    }
+}
+
+}  // namespace
+
 WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<int>& picked,
                                   const Toolpath& path, double r, double step, int n,
                                   double reach_tol, double gap_cap) {
@@ -346,38 +376,21 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
     }
   }
   flush_all();
-  for (const TopoDS_Face& face : mine) {
-    Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
-    const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
-    const BRepTopAdaptor_FClass2d classifier(fwd, 1e-9);
-    const bool reversed = face.Orientation() == TopAbs_REVERSED;
-    double u1, u2, v1, v2;
-    BRepTools::UVBounds(face, u1, u2, v1, v2);
-    for (int i = 0; i <= n; ++i)
-      for (int j = 0; j <= n; ++j) {
-        const double u = u1 + (u2 - u1) * i / n, v = v1 + (v2 - v1) * j / n;
-        if (classifier.Perform(gp_Pnt2d(u, v)) != TopAbs_IN) continue;
-        gp_Pnt p;
-        gp_Vec su, sv;
-        surf->D1(u, v, p, su, sv);
-        gp_Vec nrm = su.Crossed(sv);
-        if (nrm.Magnitude() < 1e-12) continue;  // a pole: its neighbours are sampled
-        nrm.Normalize();
-        if (reversed) nrm.Reverse();
-        ++out.samples;
-        if (model.distance(p.Translated(nrm * r)) < r - reach_tol) {
-          ++out.unreachable;
-          continue;
-        }
-        const double gap = contacts.distance(p, gap_cap);
-        double& face_gap = out.face_gap[static_cast<std::size_t>(&face - mine.data())];
-        face_gap = std::max(face_gap, gap);
-        if (gap > out.max_gap) {
-          out.max_gap = gap;
-          out.worst = p;
-          out.worst_face = picked[static_cast<std::size_t>(&face - mine.data())];
-        }
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    for_each_face_sample(mine[k], n, [&](const gp_Pnt& p, const gp_Vec& nrm) {
+      ++out.samples;
+      if (model.distance(p.Translated(nrm * r)) < r - reach_tol) {
+        ++out.unreachable;
+        return;
       }
+      const double gap = contacts.distance(p, gap_cap);
+      out.face_gap[k] = std::max(out.face_gap[k], gap);
+      if (gap > out.max_gap) {
+        out.max_gap = gap;
+        out.worst = p;
+        out.worst_face = picked[k];
+      }
+    });
   }
   return out;
 }
@@ -401,49 +414,34 @@ ScallopCheck measure_scallop(const TopoDS_Face& face, const Toolpath& path, doub
       grid[key(cell(c.X()), cell(c.Y()), cell(c.Z()))].push_back(c);
     }
   }
-  Handle(Geom_Surface) surf = BRep_Tool::Surface(face);
-  const BRepTopAdaptor_FClass2d classifier(TopoDS::Face(face.Oriented(TopAbs_FORWARD)), 1e-9);
-  const bool reversed = face.Orientation() == TopAbs_REVERSED;
-  double u1, u2, v1, v2;
-  BRepTools::UVBounds(face, u1, u2, v1, v2);
   ScallopCheck out;
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) {
-      const double u = u1 + (u2 - u1) * i / n, v = v1 + (v2 - v1) * j / n;
-      if (classifier.Perform(gp_Pnt2d(u, v)) != TopAbs_IN) continue;
-      gp_Pnt p;
-      gp_Vec su, sv;
-      surf->D1(u, v, p, su, sv);
-      gp_Vec nrm = su.Crossed(sv);
-      if (nrm.Magnitude() < 1e-12) continue;
-      nrm.Normalize();
-      if (reversed) nrm.Reverse();
-      ++out.samples;
-      // Balls that the ray can enter below `cap` have centres within r + cap.
-      double best = cap;
-      const gp_Pnt mid = p.Translated(nrm * (0.5 * cap));
-      for (long a = cell(mid.X()) - 2; a <= cell(mid.X()) + 2; ++a)
-        for (long b = cell(mid.Y()) - 2; b <= cell(mid.Y()) + 2; ++b)
-          for (long c = cell(mid.Z()) - 2; c <= cell(mid.Z()) + 2; ++c) {
-            auto it = grid.find(key(a, b, c));
-            if (it == grid.end()) continue;
-            for (const gp_Pnt& q : it->second) {
-              const gp_Vec pc(q, p);  // p - c
-              const double bb = nrm.Dot(pc), cc = pc.SquareMagnitude() - r * r;
-              if (cc <= 0) {
-                best = 0;  // p is inside the ball: cut down to the surface
-                continue;
-              }
-              const double disc = bb * bb - cc;
-              if (bb < 0 && disc >= 0) best = std::min(best, -bb - std::sqrt(disc));
+  for_each_face_sample(face, n, [&](const gp_Pnt& p, const gp_Vec& nrm) {
+    ++out.samples;
+    // Balls that the ray can enter below `cap` have centres within r + cap.
+    double best = cap;
+    const gp_Pnt mid = p.Translated(nrm * (0.5 * cap));
+    for (long a = cell(mid.X()) - 2; a <= cell(mid.X()) + 2; ++a)
+      for (long b = cell(mid.Y()) - 2; b <= cell(mid.Y()) + 2; ++b)
+        for (long c = cell(mid.Z()) - 2; c <= cell(mid.Z()) + 2; ++c) {
+          auto it = grid.find(key(a, b, c));
+          if (it == grid.end()) continue;
+          for (const gp_Pnt& q : it->second) {
+            const gp_Vec pc(q, p);  // p - c
+            const double bb = nrm.Dot(pc), cc = pc.SquareMagnitude() - r * r;
+            if (cc <= 0) {
+              best = 0;  // p is inside the ball: cut down to the surface
+              continue;
             }
+            const double disc = bb * bb - cc;
+            if (bb < 0 && disc >= 0) best = std::min(best, -bb - std::sqrt(disc));
           }
-      if (best >= cap) {
-        ++out.uncovered;
-        continue;
-      }
-      out.max = std::max(out.max, best);
+        }
+    if (best >= cap) {
+      ++out.uncovered;
+      return;
     }
+    out.max = std::max(out.max, best);
+  });
   return out;
 }
 
