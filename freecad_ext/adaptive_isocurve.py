@@ -94,6 +94,16 @@ _INPUTS = (
         "Auto",
     ),
     (
+        "App::PropertyBool",
+        "ProtectModel",
+        "Adaptive Isocurve",
+        "Keep the ball clear of every face of the model, not only the picked "
+        "ones. Near a trimmed face's edges the check is conservative and may "
+        "leave material along a neighbour's edge (UnreachableLength says how "
+        "much), never a gouge. Off: only the picked faces are protected.",
+        True,
+    ),
+    (
         "App::PropertyLength",
         "ChordTolerance",
         "Adaptive Isocurve",
@@ -343,6 +353,7 @@ def _iso_params(obj, core, ball_radius):
     params.direction = getattr(core.IsoDirection, obj.Direction)
     params.pattern = getattr(core.IsoPattern, obj.Pattern)
     params.scallop_bound = getattr(core.IsoScallopBound, obj.ScallopBound)
+    params.protect_unpicked_faces = bool(obj.ProtectModel)
     params.safe_z = obj.SafeHeight.Value
     return params
 

@@ -18,15 +18,15 @@ BALL_DIAMETER = 4.0  # mm
 SCALLOP = 0.05  # mm
 
 
-def make_op(setup, label, pattern):
+def make_op(setup, label, pattern, count=None):
     op = adaptive_isocurve.Create(
         adaptive_isocurve.OP_NAME, parentJob=setup.job, toolController=setup.ball_tc
     )
     op.Label = label
     op.ScallopHeight = SCALLOP
     op.Pattern = pattern
-    faces = ["Face%d" % (i + 1) for i in range(len(setup.clone.Shape.Faces))]
-    op.Base = [(setup.clone, faces)]
+    count = count or len(setup.clone.Shape.Faces)
+    op.Base = [(setup.clone, ["Face%d" % (i + 1) for i in range(count)])]
     return op
 
 
@@ -36,6 +36,7 @@ class MultiFaceJobTest(unittest.TestCase):
         cls.setup = support.JobSetup("MultiFace", "shell1.brep", BALL_DIAMETER)
         cls.adaptive = make_op(cls.setup, "Adaptive", "Adaptive")
         cls.uniform = make_op(cls.setup, "Uniform", "Uniform")
+        cls.some = make_op(cls.setup, "FiveFaces", "Adaptive", count=5)
         cls.setup.doc.recompute()
 
     @classmethod
@@ -43,9 +44,11 @@ class MultiFaceJobTest(unittest.TestCase):
         cls.setup.close()
 
     def test_ops_are_valid_on_99_faces(self):
-        for op in (self.adaptive, self.uniform):
+        for op in (self.adaptive, self.uniform, self.some):
             self.assertNotIn("Invalid", op.State, op.getStatusString())
-            self.assertEqual(len(op.DirectionUsed.split(", ")), 99)
+            self.assertEqual(
+                len(op.DirectionUsed.split(", ")), 5 if op is self.some else 99
+            )
 
     def test_certificate(self):
         for op in (self.adaptive, self.uniform):
@@ -65,6 +68,27 @@ class MultiFaceJobTest(unittest.TestCase):
             self.adaptive.LowerBoundLength.Value, self.uniform.LowerBoundLength.Value
         )
 
+    def test_unpicked_faces_are_protected_by_default(self):
+        # Five faces picked: the other 94 are kept clear of the ball too
+        # (ProtectModel, on by default), as the core does when asked.
+        from freecad_ext import compat
+
+        core = compat.import_core()
+        self.assertTrue(self.some.ProtectModel)
+        params = core.IsoParams()
+        params.ball_radius = BALL_DIAMETER / 2
+        params.scallop_height = SCALLOP
+        params.safe_z = self.some.SafeHeight.Value
+        brep = self.setup.clone.Shape.exportBrepToString()
+        params.protect_unpicked_faces = True
+        res = core.adaptive_isocurve(brep, list(range(5)), params)
+        self.assertAlmostEqual(
+            self.some.CuttingLength.Value, res.metrics.cutting_length, places=6
+        )
+        self.assertAlmostEqual(
+            self.some.UnreachableLength.Value, res.metrics.unreachable_length, places=6
+        )
+
     def test_linuxcnc_post_passes_rs274(self):
         rs274 = support.rs274_or_fail(self)
         ngc = os.path.join(support.temp_dir(self), "shell1.ngc")
@@ -73,7 +97,11 @@ class MultiFaceJobTest(unittest.TestCase):
         self.assertEqual(run.returncode, 0, run.errors)
         self.assertEqual(run.errors, [])
         # The interpreter's motions end with exactly the two ops' moves.
-        both = Path.Path(self.adaptive.Path.Commands + self.uniform.Path.Commands)
+        both = Path.Path(
+            self.adaptive.Path.Commands
+            + self.uniform.Path.Commands
+            + self.some.Path.Commands
+        )
         support.assert_motions_end_with(self, run, both)
 
 
