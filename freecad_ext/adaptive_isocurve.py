@@ -495,25 +495,10 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     FreeCAD cannot choose among several). Otherwise the job's only ball-end
     tool controller, or the previous op's, is used.
     """
-    created = obj is None
-    if created:
-        doc = parentJob.Document if parentJob is not None else FreeCAD.ActiveDocument
-        obj = doc.addObject("Path::FeaturePython", name)
-    try:
-        if parentJob is None:
-            obj.Proxy = ObjectAdaptiveIsocurve(obj, name, None, toolController)
-        else:
-            # FreeCAD finds the job by name in the active document only.
-            with compat.active_document(parentJob.Document):
-                obj.Proxy = ObjectAdaptiveIsocurve(obj, name, parentJob, toolController)
-    except compat.PathUtils.PathNoTCExistsException:
-        if created:  # leave the document as it was
-            obj.Document.removeObject(obj.Name)
-        raise IsoCAMError(
-            "%s: the Job has no ball-end tool controller; add one (ToolBit "
-            "shape ballend.fcstd) or pass toolController=" % name
-        ) from None
-    return obj
+    return op_base.create_op(
+        ObjectAdaptiveIsocurve, name, obj, parentJob, toolController, "the Job has no ball-end tool controller; add one (ToolBit shape "
+        "ballend.fcstd) or pass toolController="
+    )
 
 
 compat.PathSetupSheet.RegisterOperation(OP_NAME, Create, SetupProperties)

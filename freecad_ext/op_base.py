@@ -7,6 +7,9 @@ one qualifies, which avoids FreeCAD's GUI-only choice among several (the
 headless pitfall with two or more tool controllers).
 """
 
+import FreeCAD
+
+from freecad_ext import compat
 from freecad_ext.compat import PathOp
 
 
@@ -88,3 +91,29 @@ def describe(exc, argument_sources):
     if sources:
         message += " [set by %s]" % ", ".join(sources)
     return message
+
+
+def create_op(proxy_class, name, obj, parent_job, tool_controller, missing_tc):
+    """The body of every op module's Create(): a new (or the given) object
+    with a `proxy_class` proxy, added to `parent_job` (or the only Job).
+
+    FreeCAD finds the job by name in the active document only, hence the
+    document switch. Without a tool controller FreeCAD raises; the new
+    object is then removed (the document stays as it was) and IsoCAMError
+    says `missing_tc`.
+    """
+    created = obj is None
+    if created:
+        doc = parent_job.Document if parent_job is not None else FreeCAD.ActiveDocument
+        obj = doc.addObject("Path::FeaturePython", name)
+    try:
+        if parent_job is None:
+            obj.Proxy = proxy_class(obj, name, None, tool_controller)
+        else:
+            with compat.active_document(parent_job.Document):
+                obj.Proxy = proxy_class(obj, name, parent_job, tool_controller)
+    except compat.PathUtils.PathNoTCExistsException:
+        if created:
+            obj.Document.removeObject(obj.Name)
+        raise IsoCAMError("%s: %s" % (name, missing_tc)) from None
+    return obj

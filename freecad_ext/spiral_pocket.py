@@ -227,23 +227,14 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     `toolController`: use this one instead of letting FreeCAD choose
     (headless FreeCAD cannot choose among several).
     """
-    created = obj is None
-    if created:
-        doc = parentJob.Document if parentJob is not None else FreeCAD.ActiveDocument
-        obj = doc.addObject("Path::FeaturePython", name)
-    try:
-        if parentJob is None:
-            obj.Proxy = ObjectSpiralPocket(obj, name, None, toolController)
-        else:
-            with compat.active_document(parentJob.Document):
-                obj.Proxy = ObjectSpiralPocket(obj, name, parentJob, toolController)
-    except compat.PathUtils.PathNoTCExistsException:
-        if created:
-            obj.Document.removeObject(obj.Name)
-        raise IsoCAMError(
-            "%s: the Job has no tool controller; add one or pass toolController=" % name
-        ) from None
-    return obj
+    return op_base.create_op(
+        ObjectSpiralPocket,
+        name,
+        obj,
+        parentJob,
+        toolController,
+        "the Job has no tool controller; add one or pass toolController=",
+    )
 
 
 compat.PathSetupSheet.RegisterOperation(OP_NAME, Create, SetupProperties)

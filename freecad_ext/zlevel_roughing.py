@@ -177,23 +177,14 @@ def SetupProperties():
 
 def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     """Create a Z-level Roughing op and add it to `parentJob` (or the only Job)."""
-    created = obj is None
-    if created:
-        doc = parentJob.Document if parentJob is not None else FreeCAD.ActiveDocument
-        obj = doc.addObject("Path::FeaturePython", name)
-    try:
-        if parentJob is None:
-            obj.Proxy = ObjectZLevelRoughing(obj, name, None, toolController)
-        else:
-            with compat.active_document(parentJob.Document):
-                obj.Proxy = ObjectZLevelRoughing(obj, name, parentJob, toolController)
-    except compat.PathUtils.PathNoTCExistsException:
-        if created:
-            obj.Document.removeObject(obj.Name)
-        raise IsoCAMError(
-            "%s: the Job has no tool controller; add one or pass toolController=" % name
-        ) from None
-    return obj
+    return op_base.create_op(
+        ObjectZLevelRoughing,
+        name,
+        obj,
+        parentJob,
+        toolController,
+        "the Job has no tool controller; add one or pass toolController=",
+    )
 
 
 compat.PathSetupSheet.RegisterOperation(OP_NAME, Create, SetupProperties)
