@@ -343,6 +343,7 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
         const ProgressSlice part = slice.sub(double(k) / nf, double(k + 1) / nf);
         for (const LevelCurve& c :
              trace_levels(*lattices[k], axis, planes.c0, delta, planes.count, part)) {
+          part.check();  // a cancel is seen between curves, not only between faces
           CurveCutter(*lattices[k], *faces[k].trim, c, axis, planes.c0 + c.plane * delta, params,
                       model)
               .cut(&cut.faces[k]);
