@@ -145,7 +145,7 @@ class CurveCutter {
   // where the map found no exact point (see LevelCurveMap) a gap is left
   // rather than a chord that may leave the offset.
   bool usable(const LevelCurveMap::Point& q) const {
-    return q.exact && trim_.contains_exact(q.p.uv.u, q.p.uv.v);
+    return q.exact && trim_.contains(q.p.uv.u, q.p.uv.v);
   }
 
   // Parameter of the end of the usable part between t_in (usable) and

@@ -9,6 +9,11 @@
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2dAdaptor_Curve.hxx>
+#include <Geom2dConvert.hxx>
+#include <Geom2dConvert_BSplineCurveToBezierCurve.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <Geom2d_BezierCurve.hxx>
+#include <Geom2d_Conic.hxx>
 #include <Geom2dHatch_Hatcher.hxx>
 #include <Geom2dHatch_Intersector.hxx>
 #include <Geom2d_Line.hxx>
@@ -26,6 +31,7 @@
 
 namespace isocam {
 namespace {
+constexpr int kMaxSpanDegree = 25;
 std::string label(int face) {
   return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")";
 }
@@ -53,6 +59,7 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
     if (std::abs(l - f) <= Precision::PConfusion()) continue;
     hatcher_->AddElement(Geom2dAdaptor_Curve(new Geom2d_TrimmedCurve(pc, f, l)), edge.Orientation());
     add_boundary_boxes(*pc, f, l, range);
+    if (!add_spans(pc, f, l)) spans_exact_ = false;
   }
   quad_.push_back({{fmin_[0] - 1e-9 * range, fmin_[1] - 1e-9 * range},
                     {fmax_[0] + 1e-9 * range, fmax_[1] + 1e-9 * range}, 0, -1});
@@ -97,6 +104,97 @@ void TrimDomain::add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, 
                          {std::max(a.X(), b.X()) + sag, std::max(a.Y(), b.Y()) + sag}});
     a = b;
   }
+}
+
+bool TrimDomain::add_spans(const Handle(Geom2d_Curve)& pc, double f, double l) {
+  Handle(Geom2d_Curve) basis = pc;
+  if (auto t = Handle(Geom2d_TrimmedCurve)::DownCast(basis)) basis = t->BasisCurve();
+  // Lines, conics, Bezier and B-spline curves have an exact (rational)
+  // B-spline form; an offset curve has not.
+  if (!basis->IsKind(STANDARD_TYPE(Geom2d_Line)) && !basis->IsKind(STANDARD_TYPE(Geom2d_Conic)) &&
+      !basis->IsKind(STANDARD_TYPE(Geom2d_BezierCurve)) &&
+      !basis->IsKind(STANDARD_TYPE(Geom2d_BSplineCurve)))
+    return false;
+  Handle(Geom2d_BSplineCurve) bs;
+  try {
+    bs = Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(pc, f, l));
+  } catch (const Standard_Failure&) {
+    return false;
+  }
+  if (bs.IsNull()) return false;
+  Geom2dConvert_BSplineCurveToBezierCurve arcs(bs);
+  for (int i = 1; i <= arcs.NbArcs(); ++i) {
+    const Handle(Geom2d_BezierCurve) arc = arcs.Arc(i);
+    if (arc->Degree() > kMaxSpanDegree) return false;
+    Span2 span;
+    span.first = span_cps_.size();
+    span.degree = arc->Degree();
+    span.box = {{1e300, 1e300}, {-1e300, -1e300}};
+    for (int k = 1; k <= arc->NbPoles(); ++k) {
+      const gp_Pnt2d p = arc->Pole(k);
+      const double w = arc->Weight(k);
+      if (!(w > 0)) return false;
+      span_cps_.insert(span_cps_.end(), {p.X() * w, p.Y() * w, w});
+      span.box.lo[0] = std::min(span.box.lo[0], p.X());
+      span.box.lo[1] = std::min(span.box.lo[1], p.Y());
+      span.box.hi[0] = std::max(span.box.hi[0], p.X());
+      span.box.hi[1] = std::max(span.box.hi[1], p.Y());
+    }
+    spans_.push_back(span);
+  }
+  return true;
+}
+
+namespace {
+
+// Does the rational Bezier span (homogeneous control points, 3 each, degree
+// n) miss the closed rectangle [lo, hi]? Its curve lies in the hull of its
+// projected control points (the weights are positive) and passes through
+// the end ones: a hull box that misses proves a miss, an end point inside
+// proves a meet; otherwise the span is split at its middle. `budget` bounds
+// the boxes tested; when it runs out the answer is "meets" (not proved).
+bool span_misses(const double* c, int n, const double lo[2], const double hi[2], int depth,
+                 int* budget) {
+  if (--*budget < 0) return false;
+  double blo[2] = {1e300, 1e300}, bhi[2] = {-1e300, -1e300};
+  for (int k = 0; k <= n; ++k) {
+    const double x = c[3 * k] / c[3 * k + 2], y = c[3 * k + 1] / c[3 * k + 2];
+    blo[0] = std::min(blo[0], x);
+    blo[1] = std::min(blo[1], y);
+    bhi[0] = std::max(bhi[0], x);
+    bhi[1] = std::max(bhi[1], y);
+    if ((k == 0 || k == n) && x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1]) return false;
+  }
+  if (blo[0] > hi[0] || bhi[0] < lo[0] || blo[1] > hi[1] || bhi[1] < lo[1]) return true;
+  if (depth >= 40) return false;
+  double l[3 * (kMaxSpanDegree + 1)], r[3 * (kMaxSpanDegree + 1)], w[3 * (kMaxSpanDegree + 1)];
+  std::copy(c, c + 3 * (n + 1), w);
+  for (int j = 0; j < 3; ++j) {
+    l[j] = w[j];
+    r[3 * n + j] = w[3 * n + j];
+  }
+  for (int s = 1; s <= n; ++s) {
+    for (int k = 0; k + s <= n; ++k)
+      for (int j = 0; j < 3; ++j) w[3 * k + j] = 0.5 * (w[3 * k + j] + w[3 * (k + 1) + j]);
+    for (int j = 0; j < 3; ++j) {
+      l[3 * s + j] = w[j];
+      r[3 * (n - s) + j] = w[3 * (n - s) + j];
+    }
+  }
+  return span_misses(l, n, lo, hi, depth + 1, budget) && span_misses(r, n, lo, hi, depth + 1, budget);
+}
+
+}  // namespace
+
+bool TrimDomain::curves_miss(const double lo[2], const double hi[2]) const {
+  if (!spans_exact_) return false;
+  int budget = 4000;
+  for (const Span2& s : spans_) {
+    if (s.box.lo[0] > hi[0] || s.box.hi[0] < lo[0] || s.box.lo[1] > hi[1] || s.box.hi[1] < lo[1])
+      continue;
+    if (!span_misses(&span_cps_[s.first], s.degree, lo, hi, 0, &budget)) return false;
+  }
+  return true;
 }
 
 double TrimDomain::face_approx(int dir, double g) const {
@@ -173,7 +271,13 @@ int TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const 
   const bool within = lo[0] >= quad_[0].lo[0] && hi[0] <= quad_[0].hi[0] &&
                       lo[1] >= quad_[0].lo[1] && hi[1] <= quad_[0].hi[1];
   const int s = query_quadtree(0, lo, hi);
-  return !within && s == 1 ? 0 : s;
+  if (s == -1 || (s == 1 && within)) return s;
+  // Along the boundary the quadtree stops at cells 1/512 of the range wide:
+  // below that, a rectangle that no p-curve meets lies wholly on one side,
+  // which its centre tells.
+  if (!curves_miss(lo, hi)) return 0;
+  const TopAbs_State st = classifier_->Perform(gp_Pnt2d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])));
+  return st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
 }
 
 TrimDomain::~TrimDomain() = default;
@@ -255,16 +359,6 @@ bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1, std::vector<I
 }
 
 bool TrimDomain::contains(double u, double v) const {
-  // By the quadtree: a point in an undecided cell along the boundary (a cell
-  // 1/512 of the parameter range wide) counts as inside, which errs on the
-  // side of protecting the face.
-  const double p[2] = {face_approx(0, u), face_approx(1, v)};
-  const QuadNode& root = quad_[0];
-  if (p[0] < root.lo[0] || p[0] > root.hi[0] || p[1] < root.lo[1] || p[1] > root.hi[1]) return false;
-  return query_quadtree(0, p, p) >= 0;
-}
-
-bool TrimDomain::contains_exact(double u, double v) const {
   const int quick = classify_rect(u, u, v, v);
   if (quick != 0) return quick > 0;
   return classifier_->Perform(gp_Pnt2d(to_face(0, u), to_face(1, v))) != TopAbs_OUT;

@@ -35,20 +35,16 @@ class TrimDomain {
   // Thread-safe: the hatcher it uses is locked.
   std::vector<Interval> inside(bool iso_v, double level, double t0, double t1) const;
 
-  // True if the grid point (u, v) is inside the face, or within 1/512 of the
-  // parameter range of its boundary (conservative: for the clearance check,
-  // where counting a little too much of the surface as face only protects).
+  // True if the grid point (u, v) is inside the face or on its boundary, to
+  // the face classifier's tolerance (1e-9 in the face's parameters). The
+  // quadtree and the exact rectangle test decide where they can, the
+  // classifier (one projection per parameter on analytic faces) elsewhere.
   bool contains(double u, double v) const;
 
-  // True if the grid point (u, v) is inside the face or on its boundary, to
-  // the face classifier's tolerance (1e-9 in the face's parameters): exact,
-  // unlike contains(). The quadtree decides where it can, the classifier
-  // (one projection per parameter on analytic faces) elsewhere.
-  bool contains_exact(double u, double v) const;
-
   // The grid rectangle [u0, u1] x [v0, v1]: -1 entirely outside the face,
-  // 1 entirely inside, 0 it may meet the boundary. Exact in that a rectangle
-  // reported inside or outside is; 0 is the conservative answer.
+  // 1 entirely inside, 0 it meets the boundary (or, rarely, could not be
+  // decided: a p-curve that grazes it to within rounding, or one with no
+  // exact Bezier form). A rectangle reported inside or outside is so.
   int classify_rect(double u0, double u1, double v0, double v1) const;
 
  private:
@@ -60,6 +56,13 @@ class TrimDomain {
   bool hatch(bool iso_v, double f, double t0, double t1, std::vector<Interval>* out) const;
 
   void add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, double range);
+  // Adds the p-curve on [f, l] as rational Bezier spans; false if it has no
+  // exact Bezier form (an offset curve, a degree above the supported one).
+  bool add_spans(const Handle(Geom2d_Curve)& pc, double f, double l);
+  // True if no p-curve meets the closed face-parameter rectangle [lo, hi]
+  // (proved on the spans' control hulls under subdivision); false if one
+  // does or it could not be proved.
+  bool curves_miss(const double lo[2], const double hi[2]) const;
   // Tabulated face(grid) maps for analytic faces, with a margin that bounds
   // their interpolation error.
   double face_approx(int dir, double g) const;
@@ -87,6 +90,16 @@ class TrimDomain {
   std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // built once, reused
   const PatchGrid* grid_;
   std::vector<Box2> boundary_;          // boxes that contain the edges' p-curves
+  // The p-curves as rational Bezier spans: homogeneous control points
+  // (x w, y w, w) at span_cps_[first ..], with the box of their hull.
+  struct Span2 {
+    std::size_t first = 0;
+    int degree = 0;
+    Box2 box;
+  };
+  std::vector<Span2> spans_;
+  std::vector<double> span_cps_;  // 3 per control point
+  bool spans_exact_ = true;       // every p-curve has its spans
   std::vector<QuadNode> quad_;
   std::vector<double> table_g_[2], table_f_[2];
   double table_margin_[2] = {0, 0};

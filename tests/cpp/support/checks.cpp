@@ -10,7 +10,10 @@
 #include <ShapeAnalysis_Surface.hxx>
 #include <TopoDS.hxx>
 #include <gp_Pnt2d.hxx>
+#include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Edge.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom_Surface.hxx>
@@ -157,16 +160,32 @@ void ModelCloud::add_face(const TopoDS_Face& face, int n, bool trimmed) {
   s.du = (s.u2 - s.u1) / n;
   s.dv = (s.v2 - s.v1) / n;
   const TopoDS_Face fwd = TopoDS::Face(face.Oriented(TopAbs_FORWARD));
-  const BRepTopAdaptor_FClass2d inside(fwd, 1e-7);
+  if (trimmed) {
+    s.inside = std::make_shared<BRepTopAdaptor_FClass2d>(fwd, 1e-7);
+    for (TopExp_Explorer ex(fwd, TopAbs_EDGE); ex.More(); ex.Next()) {
+      Surface::Edge e;
+      e.curve = BRep_Tool::Curve(TopoDS::Edge(ex.Current()), e.first, e.last);
+      if (!e.curve.IsNull()) s.edges.push_back(e);
+    }
+  }
   const int f = static_cast<int>(surfs_.size());
+  std::vector<char> in(static_cast<std::size_t>((n + 1) * (n + 1)), 1);
+  auto at = [n](int i, int j) { return static_cast<std::size_t>(i * (n + 1) + j); };
+  if (trimmed)
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) {
+        const TopAbs_State st = s.inside->Perform(gp_Pnt2d(s.u1 + s.du * i, s.v1 + s.dv * j));
+        in[at(i, j)] = st == TopAbs_IN || st == TopAbs_ON;
+      }
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
+      if (!in[at(i, j)]) continue;
+      bool near_wire = false;
+      for (int a = std::max(0, i - 3); a <= std::min(n, i + 3) && !near_wire; ++a)
+        for (int b = std::max(0, j - 3); b <= std::min(n, j + 3) && !near_wire; ++b)
+          near_wire = !in[at(a, b)];
       const double u = s.u1 + s.du * i, v = s.v1 + s.dv * j;
-      if (trimmed) {
-        const TopAbs_State st = inside.Perform(gp_Pnt2d(u, v));
-        if (st != TopAbs_IN && st != TopAbs_ON) continue;
-      }
-      pts_.push_back({s.surf->Value(u, v), f, u, v});
+      pts_.push_back({s.surf->Value(u, v), f, u, v, near_wire});
     }
   surfs_.push_back(s);
 }
@@ -223,7 +242,11 @@ ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist
   // Local projection: Newton on |S(u, v) - p|^2 from the sample, kept in a
   // window of two cells around it (Gauss-Newton where the Hessian is not
   // positive, as behind a surface that curves tighter than the distance).
+  // On a trimmed face only iterates inside it count (the window of a sample
+  // away from the wires is inside); if the search leaves the face, the
+  // nearest point may be on its edges, which are searched too.
   double u = q.u, v = q.v;
+  bool left = false;
   const double ulo = std::max(s.u1, q.u - 2 * s.du), uhi = std::min(s.u2, q.u + 2 * s.du);
   const double vlo = std::max(s.v1, q.v - 2 * s.dv), vhi = std::min(s.v2, q.v + 2 * s.dv);
   for (int it = 0; it < 12; ++it) {
@@ -232,7 +255,9 @@ ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist
     s.surf->D2(u, v, x, su, sv, suu, svv, suv);
     const gp_Vec d(p, x);
     const double here = d.Magnitude();
-    if (here < hit.distance) {
+    if (q.near_wire && s.inside->Perform(gp_Pnt2d(u, v)) == TopAbs_OUT) {
+      left = true;
+    } else if (here < hit.distance) {
       hit.distance = here;
       hit.point = x;
     }
@@ -250,6 +275,32 @@ ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist
     if (std::abs(nu - u) < 1e-12 * (s.u2 - s.u1 + 1) && std::abs(nv - v) < 1e-12 * (s.v2 - s.v1 + 1)) break;
     u = nu;
     v = nv;
+  }
+  if (left) {
+    const Hit edge = nearest_on_edges(s, p);
+    if (edge.distance < hit.distance) {
+      hit.distance = edge.distance;
+      hit.point = edge.point;
+    }
+  }
+  return hit;
+}
+
+ModelCloud::Hit ModelCloud::nearest_on_edges(const Surface& s, const gp_Pnt& p) {
+  Hit hit;
+  for (const Surface::Edge& e : s.edges) {
+    for (double t : {e.first, e.last}) {
+      const gp_Pnt x = e.curve->Value(t);
+      if (p.Distance(x) < hit.distance) {
+        hit.distance = p.Distance(x);
+        hit.point = x;
+      }
+    }
+    GeomAPI_ProjectPointOnCurve proj(p, e.curve, e.first, e.last);
+    if (proj.NbPoints() > 0 && proj.LowerDistance() < hit.distance) {
+      hit.distance = proj.LowerDistance();
+      hit.point = proj.NearestPoint();
+    }
   }
   return hit;
 }
@@ -365,7 +416,13 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
     const int k = std::max(1, static_cast<int>(std::ceil(a.Distance(b) / step)));
     for (int s = 1; s <= k; ++s, ++centre) {
       const gp_Pnt c(a.XYZ() + (b.XYZ() - a.XYZ()) * (double(s) / k));
-      out.min_clearance = std::min(out.min_clearance, model.distance(c));
+      const ModelCloud::Hit nearest = model.nearest(c);
+      if (nearest.distance < out.min_clearance) {
+        out.min_clearance = nearest.distance;
+        out.closest_centre = c;
+        out.closest_point = nearest.point;
+        out.closest_face = nearest.face;
+      }
       for (const ModelCloud::Hit& h : model.nearest_per_face(c, touch + 2 * model.spacing(), &is_picked)) {
         if (h.distance > touch) continue;
         auto seen = last_seen.find(h.face);

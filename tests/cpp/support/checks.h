@@ -3,14 +3,18 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
+#include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
 #include <TopoDS_Face.hxx>
 #include <gp_Pnt.hxx>
 
 #include "isocam/adaptive_isocurve.h"
+
+class BRepTopAdaptor_FClass2d;
 
 namespace isocam::test {
 
@@ -84,11 +88,22 @@ class ModelCloud {
     gp_Pnt p;
     int face;
     double u, v;
+    bool near_wire;  // a sample within three cells of it is outside the face
   };
   struct Surface {
     Handle(Geom_Surface) surf;
     double u1, u2, v1, v2, du, dv;
+    // Trimmed: the face's classifier, and its edges' 3D curves (where the
+    // nearest point of the face lies when it is not inside).
+    std::shared_ptr<BRepTopAdaptor_FClass2d> inside;
+    struct Edge {
+      Handle(Geom_Curve) curve;
+      double first, last;
+    };
+    std::vector<Edge> edges;
   };
+  // The distance from p to the face's edges (the nearest point on them).
+  static Hit nearest_on_edges(const Surface& s, const gp_Pnt& p);
   std::vector<Surface> surfs_;
   std::vector<Sample> pts_;
   double cell_ = 1.0;
@@ -117,6 +132,8 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
 //    from the core.
 struct WholeModelCheck {
   double min_clearance = 1e300;  // smallest centre distance to the model
+  gp_Pnt closest_centre, closest_point;  // where: the ball centre, the model point
+  int closest_face = -1;                 // and the point's face (index in the shape)
   double max_gap = 0.0;          // largest sample-to-contact distance, reachable samples
   gp_Pnt worst;                  // the sample where it is
   int worst_face = -1;           // and its face (index in the shape)
