@@ -31,10 +31,12 @@ std::ostream& operator<<(std::ostream& os, const FaceCase& c) { return os << c.n
 // The path really drives the ball along the offset of every curve: each
 // sampled tip point of the offset curves lies within the chord tolerance of
 // a feed move, or else the ball could not be there: its centre is closer
-// than r - chord to the face (a point of the face that close is found),
-// which is where the core leaves material and reports it.
+// than r - chord to the model (a point of some face that close is found:
+// the core protects the whole model by default), which is where the core
+// leaves material and reports it.
 void expect_path_follows_curves(const TopoDS_Face& face, int face_index, const IsoResult& res,
-                                double r, double chord, const test::FaceCloud& cloud) {
+                                double r, double chord, const test::FaceCloud& own,
+                                const test::ModelCloud& model) {
   const test::SegmentIndex feeds = test::feed_segments(res.path, 1.0);
   double unreachable = 0;
   int off_path = 0;
@@ -42,7 +44,8 @@ void expect_path_follows_curves(const TopoDS_Face& face, int face_index, const I
     for (const gp_Pnt& q : curve) {
       if (feeds.distance(q, 1.0) <= chord + 1e-6) continue;
       if (off_path++ % 4 == 0) {  // a sample of them
-        unreachable = std::max(unreachable, cloud.distance(gp_Pnt(q.X(), q.Y(), q.Z() + r)));
+        const gp_Pnt centre(q.X(), q.Y(), q.Z() + r);
+        unreachable = std::max(unreachable, std::min(own.distance(centre), model.distance(centre)));
       }
     }
   }
@@ -52,6 +55,12 @@ void expect_path_follows_curves(const TopoDS_Face& face, int face_index, const I
     EXPECT_LT(unreachable, r - chord);
     EXPECT_GT(res.metrics.unreachable_length, 0.0);
   }
+}
+
+// Every face of the shape, trimmed, sampled about r / 8 apart (the picked
+// face, where the offset folds, gets a denser cloud of its own).
+test::ModelCloud whole_model(const TopoDS_Shape& shape, double r) {
+  return test::ModelCloud(faces_of(shape), r / 8, true);
 }
 
 class AdaptiveOnFace : public ::testing::TestWithParam<FaceCase> {};
@@ -86,7 +95,7 @@ TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
   EXPECT_LT(gap, res.metrics.delta_max);
 
   const test::FaceCloud cloud(face, 600);
-  expect_path_follows_curves(face, c.face, res, c.r, c.chord, cloud);
+  expect_path_follows_curves(face, c.face, res, c.r, c.chord, cloud, whole_model(shape, c.r));
 
   // No gouge: the ball centre stays at least r (less the chord tolerance,
   // the most a chord can cut into the offset, and the clearance check's
@@ -286,7 +295,8 @@ TEST_P(AdaptiveOnTrimmedFace, StaysInsideAndCoversTheTrimmedDomain) {
   std::cout << c.name << ": delta " << delta << " coverage gap " << gap << " sub-isocurves "
             << res.metrics.sub_isocurves << "\n";
   EXPECT_LT(gap, res.metrics.delta_max);
-  expect_path_follows_curves(face, c.face, res, c.r, p.chord_tolerance, test::FaceCloud(face, 400));
+  expect_path_follows_curves(face, c.face, res, c.r, p.chord_tolerance, test::FaceCloud(face, 400),
+                             whole_model(shape, c.r));
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -11,7 +11,7 @@
 
 namespace isocam {
 
-constexpr int kMaxNet = 100;  // up to degree 9 x 9
+constexpr int kMaxNet = 100;  // control points per patch: degree 9 x 9, 2 x 32, ...
 
 // A control net being subdivided (fixed storage: no allocation per piece).
 struct ClearanceModel::Net {
@@ -161,7 +161,8 @@ void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
   const std::size_t n = static_cast<std::size_t>((g.degree_u() + 1) * (g.degree_v() + 1));
   if (n > static_cast<std::size_t>(kMaxNet))
     throw GeometryError("surface degree " + std::to_string(g.degree_u()) + " x " +
-                        std::to_string(g.degree_v()) + " is above the supported 9 x 9");
+                        std::to_string(g.degree_v()) + " has more than " +
+                        std::to_string(kMaxNet) + " control points per patch");
   for (int j = 0; j < g.patches_v(); ++j) {
     for (int i = 0; i < g.patches_u(); ++i) {
       Net net;
@@ -332,7 +333,7 @@ void split_net(const H4* n, int pu, int pv, bool along_u, H4* l, H4* r) {
   const int lines = along_u ? pv + 1 : pu + 1;
   const int stride = along_u ? 1 : pu + 1;       // between points of a line
   const int step = along_u ? pu + 1 : 1;         // between lines
-  H4 w[10];
+  H4 w[kMaxNet];  // one line of the net: up to kMaxNet points
   for (int line = 0; line < lines; ++line) {
     const int base = line * step;
     for (int k = 0; k <= m; ++k) w[k] = n[base + k * stride];

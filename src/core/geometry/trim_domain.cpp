@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <cstdlib>
 #include <string>
 
 #include <BRepTopAdaptor_FClass2d.hxx>
@@ -68,21 +71,36 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
   build_quadtree(0, all, 0);
   if (!grid.same_params_as_face()) {
     // Tabulate the monotone maps; the margin is twice the largest
-    // interpolation error seen at the midpoints.
+    // interpolation error seen at the midpoints. In a periodic direction the
+    // projection may answer a seam point with either end of the period:
+    // each value is taken in the period nearest its neighbour's.
     const int n = 128;
     for (int dir = 0; dir < 2; ++dir) {
+      const bool periodic = dir == 0 ? surface_->IsUPeriodic() : surface_->IsVPeriodic();
+      const double period = periodic ? (dir == 0 ? surface_->UPeriod() : surface_->VPeriod()) : 0.0;
+      auto near = [periodic, period](double f, double ref) {
+        return periodic ? f + period * std::round((ref - f) / period) : f;
+      };
       const double g0 = dir == 0 ? grid.umin() : grid.vmin();
       const double g1 = dir == 0 ? grid.umax() : grid.vmax();
+      // Start from the middle, where no seam is.
+      const double fmid = to_face(dir, 0.5 * (g0 + g1));
+      std::vector<double> f(static_cast<std::size_t>(n) + 1);
+      f[static_cast<std::size_t>(n / 2)] = near(to_face(dir, g0 + (g1 - g0) * (n / 2) / n), fmid);
+      for (int k = n / 2 + 1; k <= n; ++k)
+        f[static_cast<std::size_t>(k)] =
+            near(to_face(dir, g0 + (g1 - g0) * k / n), f[static_cast<std::size_t>(k) - 1]);
+      for (int k = n / 2 - 1; k >= 0; --k)
+        f[static_cast<std::size_t>(k)] =
+            near(to_face(dir, g0 + (g1 - g0) * k / n), f[static_cast<std::size_t>(k) + 1]);
       double err = 0;
       for (int k = 0; k <= n; ++k) {
-        const double g = g0 + (g1 - g0) * k / n;
-        table_g_[dir].push_back(g);
-        table_f_[dir].push_back(to_face(dir, g));
+        table_g_[dir].push_back(g0 + (g1 - g0) * k / n);
+        table_f_[dir].push_back(f[static_cast<std::size_t>(k)]);
         if (k > 0) {
-          const double gm = g - 0.5 * (g1 - g0) / n;
-          const double lin = 0.5 * (table_f_[dir][static_cast<std::size_t>(k)] +
-                                    table_f_[dir][static_cast<std::size_t>(k) - 1]);
-          err = std::max(err, std::abs(to_face(dir, gm) - lin));
+          const double gm = g0 + (g1 - g0) * (k - 0.5) / n;
+          const double lin = 0.5 * (f[static_cast<std::size_t>(k)] + f[static_cast<std::size_t>(k) - 1]);
+          err = std::max(err, std::abs(near(to_face(dir, gm), lin) - lin));
         }
       }
       table_margin_[dir] = 2.0 * err + 1e-9 * range;
@@ -256,6 +274,33 @@ int TrimDomain::query_quadtree(int node, const double lo[2], const double hi[2])
   return state == 3 ? -1 : state;
 }
 
+std::size_t TrimDomain::RectHash::operator()(const RectKey& k) const {
+  std::size_t h = 1469598103934665603ull + static_cast<std::size_t>(k.kind);
+  for (double x : k.c) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+    h ^= h >> 29;
+  }
+  return h;
+}
+
+template <class Decide>
+int TrimDomain::cached(const RectKey& key, Decide decide) const {
+  if (std::getenv("NOCACHE")) return decide();
+  CacheShard& shard = (*cache_)[RectHash()(key) % kCacheShards];
+  {
+    const std::lock_guard<std::mutex> guard(shard.lock);
+    const auto it = shard.answers.find(key);
+    if (it != shard.answers.end()) return it->second;
+  }
+  const int answer = decide();  // the same on every thread: no race on what is stored
+  const std::lock_guard<std::mutex> guard(shard.lock);
+  if (shard.answers.size() >= 100000) shard.answers.clear();
+  shard.answers.emplace(key, answer);
+  return answer;
+}
+
 int TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const {
   double lo[2] = {face_approx(0, u0), face_approx(1, v0)};
   double hi[2] = {face_approx(0, u1), face_approx(1, v1)};
@@ -275,9 +320,12 @@ int TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const 
   // Along the boundary the quadtree stops at cells 1/512 of the range wide:
   // below that, a rectangle that no p-curve meets lies wholly on one side,
   // which its centre tells.
-  if (!curves_miss(lo, hi)) return 0;
-  const TopAbs_State st = classifier_->Perform(gp_Pnt2d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])));
-  return st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
+  return cached({{u0, u1, v0, v1}, 0}, [&] {
+    if (!curves_miss(lo, hi)) return 0;
+    const TopAbs_State st =
+        classifier_->Perform(gp_Pnt2d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])));
+    return st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
+  });
 }
 
 TrimDomain::~TrimDomain() = default;
@@ -361,7 +409,11 @@ bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1, std::vector<I
 bool TrimDomain::contains(double u, double v) const {
   const int quick = classify_rect(u, u, v, v);
   if (quick != 0) return quick > 0;
-  return classifier_->Perform(gp_Pnt2d(to_face(0, u), to_face(1, v))) != TopAbs_OUT;
+  // On the boundary to within rounding: the classifier, at the exact face
+  // parameters.
+  return cached({{u, u, v, v}, 1}, [&] {
+           return classifier_->Perform(gp_Pnt2d(to_face(0, u), to_face(1, v))) != TopAbs_OUT ? 1 : 0;
+         }) > 0;
 }
 
 }  // namespace isocam

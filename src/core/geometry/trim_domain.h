@@ -6,7 +6,9 @@
 #pragma once
 
 #include <memory>
+#include <array>
 #include <mutex>
+#include <unordered_map>
 #include <vector>
 
 #include <Geom_Surface.hxx>
@@ -46,6 +48,8 @@ class TrimDomain {
   // decided: a p-curve that grazes it to within rounding, or one with no
   // exact Bezier form). A rectangle reported inside or outside is so.
   int classify_rect(double u0, double u1, double v0, double v1) const;
+
+  int face_label() const { return label_; }  // the face index it was built with
 
  private:
   // Grid parameter -> face parameter, per direction (0: u, 1: v).
@@ -107,6 +111,31 @@ class TrimDomain {
   double fmin_[2], fmax_[2];  // the face's parameter bounds
   std::unique_ptr<Geom2dHatch_Hatcher> hatcher_;
   std::unique_ptr<std::mutex> hatcher_lock_ = std::make_unique<std::mutex>();
+
+  // The answers that took the exact test or the classifier, by rectangle
+  // (a point is a rectangle of no size): the clearance queries along a path
+  // ask about the same pieces of surface again and again. Sharded, each
+  // shard locked; a full shard is emptied.
+  struct RectKey {
+    double c[4];
+    int kind;  // 0: classify_rect, 1: contains
+    bool operator==(const RectKey& o) const {
+      return kind == o.kind && c[0] == o.c[0] && c[1] == o.c[1] && c[2] == o.c[2] && c[3] == o.c[3];
+    }
+  };
+  struct RectHash {
+    std::size_t operator()(const RectKey& k) const;
+  };
+  struct CacheShard {
+    std::mutex lock;
+    std::unordered_map<RectKey, int, RectHash> answers;
+  };
+  static constexpr std::size_t kCacheShards = 16;
+  std::unique_ptr<std::array<CacheShard, kCacheShards>> cache_ =
+      std::make_unique<std::array<CacheShard, kCacheShards>>();
+  // Looks `key` up, or computes it with `decide` and stores it.
+  template <class Decide>
+  int cached(const RectKey& key, Decide decide) const;
 };
 
 }  // namespace isocam

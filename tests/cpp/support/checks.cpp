@@ -185,7 +185,11 @@ void ModelCloud::add_face(const TopoDS_Face& face, int n, bool trimmed) {
         for (int b = std::max(0, j - 3); b <= std::min(n, j + 3) && !near_wire; ++b)
           near_wire = !in[at(a, b)];
       const double u = s.u1 + s.du * i, v = s.v1 + s.dv * j;
-      pts_.push_back({s.surf->Value(u, v), f, u, v, near_wire});
+      const gp_Pnt q = s.surf->Value(u, v);
+      pts_.push_back({q, f, u, v, near_wire});
+      for (const auto& [a, b] : {std::pair<int, int>{i + 1, j}, {i, j + 1}})
+        if (a <= n && b <= n)
+          max_step_ = std::max(max_step_, q.Distance(s.surf->Value(s.u1 + s.du * a, s.v1 + s.dv * b)));
     }
   surfs_.push_back(s);
 }
@@ -229,7 +233,13 @@ ModelCloud::Hit ModelCloud::nearest(const gp_Pnt& p, const std::vector<char>* on
         }
     if (hit.distance < static_cast<double>(reach) * cell_) break;  // farther shells are farther
   }
-  return refine(p, arg, hit.distance);
+  // The face nearest p has a sample within its distance plus one sample
+  // step: refine the nearest sample of every face within that reach, not
+  // only of the face of the nearest sample.
+  Hit best = refine(p, arg, hit.distance);
+  for (const Hit& h : nearest_per_face(p, hit.distance + max_step_, only))
+    if (h.distance < best.distance) best = h;
+  return best;
 }
 
 ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist) const {

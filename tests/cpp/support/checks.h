@@ -107,6 +107,7 @@ class ModelCloud {
   std::vector<Surface> surfs_;
   std::vector<Sample> pts_;
   double cell_ = 1.0;
+  double max_step_ = 0.0;  // the largest distance between neighbouring samples
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
   std::int64_t key(long i, long j, long k) const;
   void add_face(const TopoDS_Face& face, int n, bool trimmed);

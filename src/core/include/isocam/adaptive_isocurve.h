@@ -70,11 +70,9 @@ struct IsoParams {
   double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
   double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
-  // Keep the ball clear of the faces not picked too. Off by default for now:
-  // near the wires of a trimmed face the check counts a band of up to 1/512
-  // of its parameter range as face, which can cut away passes that touch a
-  // neighbouring face's edge (see README, Status).
-  bool protect_unpicked_faces = false;
+  // Keep the ball clear of the faces not picked too (the whole model; each
+  // face trimmed to its wires exactly). Off: only the picked faces count.
+  bool protect_unpicked_faces = true;
   int threads = 0;                // faces computed in parallel; 0: one per core
   double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
 };
