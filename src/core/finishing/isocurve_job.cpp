@@ -133,7 +133,9 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   std::vector<PickedFace> model_faces;
   model_faces.reserve(all.size());
   std::vector<std::size_t> picked(faces.size(), all.size());
-  ClearanceModel model(params.gouge_tolerance, 2.0 * params.ball_radius);
+  // Its accuracy a quarter of the gouge tolerance: the queries then keep the
+  // ball at r - chord_tolerance - gouge_tolerance (query_distance()).
+  ClearanceModel model(0.25 * params.gouge_tolerance, 2.0 * params.ball_radius);
   for (std::size_t i = 0; i < all.size(); ++i) {
     const int f = static_cast<int>(i);
     const auto at = std::find(faces.begin(), faces.end(), f);

@@ -51,7 +51,8 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   Toolpath path;
   if (pieces.empty()) return path;
   const double r = params.ball_radius, safe = params.safe_z;
-  const double clearance = r - params.chord_tolerance - model.tolerance();
+  const double clearance =
+      model.query_distance(r - params.chord_tolerance - params.gouge_tolerance);
   const double max_link = 4.0 * r;
   auto tip = [&](MoveKind k, const gp_Pnt& p) { path.add(k, p.X(), p.Y(), p.Z() - r); };
   auto enter = [&](const CutPiece& p) {

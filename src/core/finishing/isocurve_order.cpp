@@ -266,8 +266,8 @@ std::vector<CutPiece> face_pieces(const PatchGrid& g, std::vector<SubIsocurve> c
   });
   const double r = params.ball_radius, tol = params.chord_tolerance;
   // A chord of the offset may cut into it by the chord tolerance; the
-  // clearance check is exact to its own tolerance.
-  const double clearance = r - tol - model.tolerance();
+  // clearance check is exact to the gouge tolerance.
+  const double clearance = model.query_distance(r - tol - params.gouge_tolerance);
   FacePathStats st;
   std::vector<CutPiece> pieces;
   bool forward = true;

@@ -81,7 +81,7 @@ class CurveCutter {
         level_(level),
         tol_(p.chord_tolerance),
         model_(model),
-        clearance_(p.ball_radius - p.chord_tolerance - model.tolerance()) {}
+        clearance_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)) {}
 
   void cut(FaceCut* out) {
     linearise();

@@ -59,6 +59,10 @@ class ClearanceModel {
   static double local_distance(const gp_Pnt& q, Witness* witness);
 
   double tolerance() const { return eps_; }
+  // The distance to query so that whatever clear() passes keeps at least
+  // `keep` from the model: a piece smaller than eps taken as clear may hold
+  // points up to sqrt(3) eps (its box's diagonal) nearer than its corners.
+  double query_distance(double keep) const { return keep + 1.7320508075688772 * eps_; }
 
   struct Net;  // a control net being subdivided (defined in clearance.cpp)
 
