@@ -70,19 +70,32 @@ struct CutPiece {
   void reverse();
 };
 
-// The pieces of one face's curves: the ball centre driven on the offset
-// surface, linearised within the chord tolerance, with the parts cut away
-// where the ball would come closer than r to the model (exactly where they
-// start, to the clearance model's tolerance). Pieces come in cross-iso
-// order, zig-zag.
-std::vector<CutPiece> face_pieces(const PatchGrid& grid, std::vector<SubIsocurve> curves,
-                                  const IsoParams& params, const ClearanceModel& model,
-                                  FacePathStats* stats);
+// One sub-isocurve of a face, planned: the ball centre driven on the offset
+// surface, linearised within the chord tolerance, in the direction the
+// zig-zag gives it.
+struct PlannedCurve {
+  SubIsocurve curve;
+  CentrePolyline line;
+};
+
+// A face's curves planned in cross-iso order, zig-zag. Curves that offset
+// to a point (a boundary collapsed to a pole) are left out.
+std::vector<PlannedCurve> plan_face(const PatchGrid& grid, std::vector<SubIsocurve> curves,
+                                    const IsoParams& params);
+
+// The pieces of planned curves [first, last) of one face: the parts where
+// the ball would come closer than r to the model are cut away (exactly where
+// they start, to the clearance model's tolerance). Curves are independent:
+// ranges of them can be cut on several threads. `stats` receives the number
+// of curves and the length left out.
+std::vector<CutPiece> cut_planned(const PatchGrid& grid, const PlannedCurve* first,
+                                  const PlannedCurve* last, const IsoParams& params,
+                                  const ClearanceModel& model, FacePathStats* stats);
 
 // The runs of a ball-centre polyline (vertices `pts` at increasing curve
 // parameters `t`; `at` evaluates the exact curve) where the ball keeps
 // `clearance` from the model, cut exactly where they start to violate, as
-// face_pieces() does for isocurves. The pieces have no grid (null): links to
+// cut_planned() does for isocurves. The pieces have no grid (null): links to
 // them are straight.
 std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::vector<double>& t,
                                    const std::function<gp_Pnt(double)>& at,

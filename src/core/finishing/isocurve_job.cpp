@@ -9,6 +9,7 @@
 #include <thread>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <string>
@@ -54,8 +55,8 @@ void validate(const IsoParams& p) {
 
 struct FaceResult {
   std::shared_ptr<const PatchGrid> grid;  // working grid the pieces refer to
-  std::vector<CutPiece> pieces;
-  double cut_length = 0.0;
+  std::vector<PlannedCurve> planned;      // the curves' ball-centre polylines
+  double planned_length = 0.0;            // their length, before any is cut
   FaceCoverage coverage;
   IsoDirection dir = IsoDirection::V;
   FacePathStats stats;
@@ -80,7 +81,7 @@ std::vector<SubIsocurve> clip_to_face(const std::vector<SubIsocurve>& curves,
 }
 
 FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const IsoParams& p,
-                             const ClearanceModel& model, const ProgressSlice& progress) {
+                             const ProgressSlice& progress) {
   FaceResult r;
   r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
                                                                      : face.grid);
@@ -91,9 +92,36 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
                    ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
                    : adaptive_coverage(*r.grid, face.index, dir, field, p, progress);
   r.coverage.curves = clip_to_face(r.coverage.curves, *face.trim);
-  r.pieces = face_pieces(*r.grid, r.coverage.curves, p, model, &r.stats);
-  for (const CutPiece& c : r.pieces) r.cut_length += c.length();
+  r.planned = plan_face(*r.grid, r.coverage.curves, p);
+  for (const PlannedCurve& c : r.planned) r.planned_length += c.line.length();
   return r;
+}
+
+// Runs task(k) for k in [0, n) on up to `threads` threads (0: one per
+// core). Tasks are taken in order; an exception a task throws is kept and
+// the first (in task order) rethrown once all have ended, so that what
+// comes out does not depend on the number of threads.
+template <class Task>
+void run_tasks(std::size_t n, int threads, const Task& task) {
+  std::vector<std::exception_ptr> failed(n);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&]() {
+    for (std::size_t k = next++; k < n; k = next++) {
+      try {
+        task(k);
+      } catch (...) {
+        failed[k] = std::current_exception();
+      }
+    }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t n_threads = std::min<std::size_t>(n, threads > 0 ? std::size_t(threads) : hw);
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
 }
 
 // The directions tried on each face: the requested one, or for Auto both
@@ -133,9 +161,9 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   std::vector<PickedFace> model_faces;
   model_faces.reserve(all.size());
   std::vector<std::size_t> picked(faces.size(), all.size());
-  // Its accuracy a quarter of the gouge tolerance: the queries then keep the
-  // ball at r - chord_tolerance - gouge_tolerance (query_distance()).
-  ClearanceModel model(0.25 * params.gouge_tolerance, 2.0 * params.ball_radius);
+  // Its accuracy is the gouge tolerance: the queries keep the ball at
+  // r - chord_tolerance - gouge_tolerance (query_distance()).
+  ClearanceModel model(params.gouge_tolerance, 2.0 * params.ball_radius);
   for (std::size_t i = 0; i < all.size(); ++i) {
     const int f = static_cast<int>(i);
     const auto at = std::find(faces.begin(), faces.end(), f);
@@ -186,56 +214,65 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     pieces = std::move(cut.pieces);
   }
   // Faces, and the directions of one face under Auto, are independent until
-  // linking: compute them as tasks (face, direction) on several threads
-  // (two directions of one face share its trimmed domain, whose hatcher is
-  // locked), then pick each face's direction and merge in face order, so
-  // the result does not depend on the number of threads.
+  // linking: plan them as tasks (face, direction) on several threads (two
+  // directions of one face share its trimmed domain, whose hatcher is
+  // locked) and pick each face's direction by the length planned. Then the
+  // chosen curves are cut against the model, in ranges of a few curves as
+  // tasks again, and merged in face and curve order, so that the result
+  // does not depend on the number of threads.
   const std::vector<IsoDirection> dirs = directions_to_try(params);
   const std::size_t nd = dirs.size();
   const std::size_t tasks = planes ? 0 : picked.size() * nd;
+  const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
   std::vector<FaceResult> tried(tasks);
-  std::vector<std::exception_ptr> failed(tasks);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&]() {
-    for (std::size_t k = next++; k < tasks; k = next++) {
-      const std::size_t f = k / nd, di = k % nd;
-      const PickedFace& face = model_faces[picked[f]];
-      try {
-        try {
-          const double lo = (double(f) + double(di) / double(nd)) / nf;
-          const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
-          tried[k] = face_in_direction(face, dirs[di], params, model,
-                                       ProgressSlice(progress).sub(lo, hi));
-          if (di == 0)
-            tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
-                                                      params.scallop_height);
-        } catch (const Standard_Failure& e) {
-          throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " +
-                              e.GetMessageString());
-        }
-      } catch (...) {
-        failed[k] = std::current_exception();
-      }
+  run_tasks(tasks, params.threads, [&](std::size_t k) {
+    const std::size_t f = k / nd, di = k % nd;
+    const PickedFace& face = model_faces[picked[f]];
+    try {
+      const double lo = (double(f) + double(di) / double(nd)) / nf;
+      const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
+      tried[k] = face_in_direction(face, dirs[di], params, planning.sub(lo, hi));
+      if (di == 0)
+        tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
+                                                  params.scallop_height);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
     }
-  };
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t n_threads =
-      std::min<std::size_t>(tasks, params.threads > 0 ? std::size_t(params.threads) : hw);
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
-  // Per face, the first direction tried unless another cuts strictly less.
+  });
+  // Per face, the first direction tried unless another plans strictly less.
   std::vector<FaceResult> done(planes ? 0 : picked.size());
   for (std::size_t f = 0; f < done.size(); ++f) {
     std::size_t best = f * nd;
     for (std::size_t di = 1; di < nd; ++di)
-      if (tried[f * nd + di].cut_length < tried[best].cut_length) best = f * nd + di;
+      if (tried[f * nd + di].planned_length < tried[best].planned_length) best = f * nd + di;
     const double lower_bound = tried[f * nd].lower_bound;  // of the face, not the direction
     done[f] = std::move(tried[best]);
     done[f].lower_bound = lower_bound;
+  }
+  struct Range {
+    std::size_t face, first, last;
+  };
+  std::vector<Range> ranges;
+  for (std::size_t f = 0; f < done.size(); ++f)
+    for (std::size_t i = 0; i < done[f].planned.size(); i += 8)
+      ranges.push_back({f, i, std::min(i + 8, done[f].planned.size())});
+  std::vector<std::vector<CutPiece>> cut(ranges.size());
+  std::vector<FacePathStats> cut_stats(ranges.size());
+  std::size_t cut_done = 0;
+  std::mutex cut_lock;  // the count and the progress it reports
+  run_tasks(ranges.size(), params.threads, [&](std::size_t k) {
+    check_cancel(progress);
+    const Range& rg = ranges[k];
+    const FaceResult& fr = done[rg.face];
+    cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
+                         params, model, &cut_stats[k]);
+    const std::lock_guard<std::mutex> guard(cut_lock);
+    report_progress(progress, 0.6 + 0.35 * double(++cut_done) / double(ranges.size()));
+  });
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    done[ranges[k].face].stats.curves += cut_stats[k].curves;
+    done[ranges[k].face].stats.unreachable_length += cut_stats[k].unreachable_length;
+    std::move(cut[k].begin(), cut[k].end(), std::back_inserter(pieces));
   }
   for (FaceResult& best : done) {
     result.curves.insert(result.curves.end(), best.coverage.curves.begin(), best.coverage.curves.end());
@@ -247,7 +284,6 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     result.metrics.lower_bound_length += best.lower_bound;
     result.metrics.delta_max = std::max(result.metrics.delta_max, best.delta_max);
     working.push_back(best.grid);
-    std::move(best.pieces.begin(), best.pieces.end(), std::back_inserter(pieces));
   }
   result.path = link_pieces(std::move(pieces), params, model);
   report_progress(progress, 1.0);

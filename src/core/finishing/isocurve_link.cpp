@@ -78,12 +78,17 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
       cands.push_back({end.Distance(pieces[j].pts.front()), j, false});
       cands.push_back({end.Distance(pieces[j].pts.back()), j, true});
     }
-    std::sort(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) {
-      return x.distance < y.distance || (x.distance == y.distance && x.piece < y.piece);
-    });
+    // The 8 nearest, in order (ties by piece, then end): only they are tried.
+    const std::size_t tries = std::min<std::size_t>(8, cands.size());
+    std::partial_sort(cands.begin(), cands.begin() + static_cast<std::ptrdiff_t>(tries), cands.end(),
+                      [](const Candidate& x, const Candidate& y) {
+                        if (x.distance != y.distance) return x.distance < y.distance;
+                        if (x.piece != y.piece) return x.piece < y.piece;
+                        return x.reversed < y.reversed;
+                      });
     std::vector<gp_Pnt> link;
     Candidate chosen = cands.front();
-    for (std::size_t k = 0; k < cands.size() && k < 8 && cands[k].distance <= max_link; ++k) {
+    for (std::size_t k = 0; k < tries && cands[k].distance <= max_link; ++k) {
       CutPiece& next = pieces[cands[k].piece];
       if (cands[k].reversed) next.reverse();
       link = feed_link(pieces[cur], next, params, model, clearance);

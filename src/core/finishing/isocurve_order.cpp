@@ -60,7 +60,7 @@ CentrePolyline centres_along(const PatchGrid& g, const SubIsocurve& c, bool forw
 
 // Splits a centre polyline into the runs where the ball keeps `clearance`
 // from the model. Vertices are tested first; a boundary between a clear and
-// a violating vertex is located by bisection on the curve parameter (to 1e-4
+// a violating vertex is located by bisection on the curve parameter (to 1e-2
 // of the chord tolerance). A chord between two clear vertices that is itself
 // not clear (another part of the model comes near the chord, not the curve)
 // is refined by curve points until its pieces are clear or shorter than the
@@ -131,7 +131,7 @@ class RunSplitter {
   }
 
   // The last clear parameter from t_ok (clear) towards t_bad (not clear):
-  // a clear point with a point not clear within 1e-4 of the chord
+  // a clear point with a point not clear within 1e-2 of the chord
   // tolerance beyond it (in space). Bisection finds it, but its last steps
   // probe points within a hair of the clearance, where each query subdivides
   // down to the model's tolerance; so first the crossing is predicted from
@@ -140,7 +140,7 @@ class RunSplitter {
   // the contract.
   double boundary(double t_ok, double t_bad) const {
     gp_Pnt p_ok = at_(t_ok), p_bad = at_(t_bad);
-    const double goal = 1e-4 * tol_;
+    const double goal = 1e-2 * tol_;
     auto probe = [&](double t) {
       const gp_Pnt p = at_(t);
       if (model_.clear(p, clearance_)) {
@@ -258,34 +258,43 @@ void CutPiece::reverse() {
   std::reverse(t.begin(), t.end());
 }
 
-std::vector<CutPiece> face_pieces(const PatchGrid& g, std::vector<SubIsocurve> curves,
-                                  const IsoParams& params, const ClearanceModel& model,
-                                  FacePathStats* stats) {
+std::vector<PlannedCurve> plan_face(const PatchGrid& g, std::vector<SubIsocurve> curves,
+                                    const IsoParams& params) {
   std::sort(curves.begin(), curves.end(), [](const SubIsocurve& a, const SubIsocurve& b) {
     return a.level < b.level || (a.level == b.level && a.t0 < b.t0);
   });
+  std::vector<PlannedCurve> out;
+  bool forward = true;
+  for (const SubIsocurve& c : curves) {
+    CentrePolyline line = centres_along(g, c, forward, params.ball_radius, params.chord_tolerance);
+    // A boundary collapsed to a pole offsets to a single point: nothing to cut.
+    if (line.length() <= 1e-6) continue;
+    forward = !forward;  // zig-zag
+    out.push_back({c, std::move(line)});
+  }
+  return out;
+}
+
+std::vector<CutPiece> cut_planned(const PatchGrid& g, const PlannedCurve* first,
+                                  const PlannedCurve* last, const IsoParams& params,
+                                  const ClearanceModel& model, FacePathStats* stats) {
   const double r = params.ball_radius, tol = params.chord_tolerance;
   // A chord of the offset may cut into it by the chord tolerance; the
   // clearance check is exact to the gouge tolerance.
   const double clearance = model.query_distance(r - tol - params.gouge_tolerance);
   FacePathStats st;
   std::vector<CutPiece> pieces;
-  bool forward = true;
-  for (const SubIsocurve& c : curves) {
-    const CentrePolyline line = centres_along(g, c, forward, r, tol);
-    // A boundary collapsed to a pole offsets to a single point: nothing to cut.
-    const double full = line.length();
-    if (full <= 1e-6) continue;
-    forward = !forward;  // zig-zag
+  for (const PlannedCurve* pc = first; pc != last; ++pc) {
+    const SubIsocurve& c = pc->curve;
     ++st.curves;
     double kept = 0;
     RunSplitter splitter([&](double t) { return centre_at(g, g.span_of_u(t), t, c.level, r); },
                          model, clearance, tol);
-    for (CentrePolyline& run : splitter.split(line)) {
+    for (CentrePolyline& run : splitter.split(pc->line)) {
       kept += run.length();
       pieces.push_back({&g, c.level, std::move(run.pts), std::move(run.t)});
     }
-    st.unreachable_length += full - kept;
+    st.unreachable_length += pc->line.length() - kept;
   }
   if (stats) *stats = st;
   return pieces;

@@ -273,15 +273,16 @@ bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* 
   // The tree is balanced, so its depth is about log2(patches / 4).
   std::array<int, 128> stack;
   std::size_t top = 0;
-  if (segment_box_beyond(a, b, nodes_[0].box.lo, nodes_[0].box.hi, d)) return true;
+  const double keep = d - eps_;  // what a box must be beyond to be passed
+  if (segment_box_beyond(a, b, nodes_[0].box.lo, nodes_[0].box.hi, keep)) return true;
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
     if (n.left >= 0) {
       const Node& l = nodes_[static_cast<std::size_t>(n.left)];
       const Node& r = nodes_[static_cast<std::size_t>(n.right)];
-      const bool near_l = !segment_box_beyond(a, b, l.box.lo, l.box.hi, d);
-      const bool near_r = !segment_box_beyond(a, b, r.box.lo, r.box.hi, d);
+      const bool near_l = !segment_box_beyond(a, b, l.box.lo, l.box.hi, keep);
+      const bool near_r = !segment_box_beyond(a, b, r.box.lo, r.box.hi, keep);
       if (top + 2 > stack.size()) throw GeometryError("clearance: hierarchy too deep");
       const bool left_first =
           segment_box_bound2(a, b, l.box.lo, l.box.hi) <= segment_box_bound2(a, b, r.box.lo, r.box.hi);
@@ -291,11 +292,11 @@ bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* 
     }
     for (int k = n.patch_lo; k < n.patch_hi; ++k) {
       const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
-      if (segment_box_beyond(a, b, p.box.lo, p.box.hi, d)) continue;
+      if (segment_box_beyond(a, b, p.box.lo, p.box.hi, keep)) continue;
       auto local = [&p](const gp_Pnt& q) {
         return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
       };
-      if (segment_box_beyond(local(a), local(b), p.olo, p.ohi, d)) continue;
+      if (segment_box_beyond(local(a), local(b), p.olo, p.ohi, keep)) continue;
       if (!patch_clear(p, a, b, d, witness)) return false;
     }
   }
@@ -405,8 +406,12 @@ bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_P
         return false;
       }
     const Obb box(pts.data(), n, corners);
-    if (segment_box_beyond(box.local(a), box.local(b), box.lo, box.hi, d)) continue;
-    if (box.extent() <= eps_ || piece.depth > 40) continue;  // clear within eps
+    if (segment_box_beyond(box.local(a), box.local(b), box.lo, box.hi, d - eps_)) continue;
+    // A piece this small with no corner closer than d has no point closer
+    // than d - eps (its box's diagonal is under eps).
+    if (box.extent() * 1.7320508075688772 <= eps_) continue;
+    // Subdivision that does not shrink the box (it should): not proved.
+    if (piece.depth > 60) return false;
     // Split across the longer parametric direction of the control net. The
     // half on the side of the corner nearer the segment goes on top, so that
     // a witness, if any, is met early (the answer does not depend on the

@@ -9,11 +9,13 @@
 //  - a bounding volume hierarchy of the patches' control-net boxes culls;
 //  - a patch is subdivided (de Casteljau) until either an oriented box of its
 //    control net (axes from the patch's own frame, so a nearly flat piece
-//    gets a thin box) is provably farther than d from the segment, or a
+//    gets a thin box) is provably at least d - eps from the segment, or a
 //    point of the surface (a corner of the piece, which the surface
 //    interpolates) is closer than d: a witness;
-//  - a piece smaller than `eps` that is neither is taken as clear, so the
-//    answer is exact to within eps.
+//  - so "clear" proves every point at least d - eps away, "not clear" shows
+//    one closer than d; the band eps between is what lets the subdivision
+//    end (a piece whose box is under eps / sqrt(3) across is one or the
+//    other).
 #pragma once
 
 #include <vector>
@@ -28,8 +30,9 @@ namespace isocam {
 
 class ClearanceModel {
  public:
-  // eps: the accuracy of the answers; max_piece: pieces of surface larger
-  // than this are stored split (a few ball radii is a good size).
+  // eps: the accuracy of the answers (see clear()); max_piece: pieces of
+  // surface larger than this are stored split (a few ball radii is a good
+  // size).
   ClearanceModel(double eps, double max_piece) : eps_(eps), max_piece_(max_piece) {}
   // Adds every patch of the grid (which must outlive the model); with `trim`
   // (the face's domain, which must outlive the model too) only the part of the surface inside the face counts:
@@ -45,8 +48,9 @@ class ClearanceModel {
     double u = 0.0, v = 0.0;
   };
 
-  // False if some surface point is closer than d to the segment [a, b];
-  // then `witness`, if given, receives that point.
+  // False if some surface point is closer than d to the segment [a, b]
+  // (then `witness`, if given, receives that point); true if none is closer
+  // than d - eps. Between the two either answer may come.
   bool clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness = nullptr) const;
   bool clear(const gp_Pnt& c, double d, Witness* witness = nullptr) const {
     return clear(c, c, d, witness);
@@ -60,9 +64,8 @@ class ClearanceModel {
 
   double tolerance() const { return eps_; }
   // The distance to query so that whatever clear() passes keeps at least
-  // `keep` from the model: a piece smaller than eps taken as clear may hold
-  // points up to sqrt(3) eps (its box's diagonal) nearer than its corners.
-  double query_distance(double keep) const { return keep + 1.7320508075688772 * eps_; }
+  // `keep` from the model.
+  double query_distance(double keep) const { return keep + eps_; }
 
   struct Net;  // a control net being subdivided (defined in clearance.cpp)
 
