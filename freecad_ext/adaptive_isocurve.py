@@ -90,7 +90,7 @@ _INPUTS = (
         "Direction",
         "Adaptive Isocurve",
         "Isocurve direction: U (u constant), V (v constant), or Auto "
-        "(per face, the one with the shorter cutting length).",
+        "(per face, the one with the shorter planned path).",
         "Auto",
     ),
     (

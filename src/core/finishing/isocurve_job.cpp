@@ -3,10 +3,7 @@
 // model, runs Algorithm 1 (or the uniform baseline) per face and direction,
 // and assembles the path and its certificate.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <thread>
 #include <iterator>
 #include <memory>
 #include <mutex>
@@ -19,6 +16,7 @@
 #include "finishing/coverage.h"
 #include "finishing/stepover.h"
 #include "finishing/parallel_planes.h"
+#include "finishing/task_pool.h"
 #include "geometry/trim_domain.h"
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -97,35 +95,8 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
   return r;
 }
 
-// Runs task(k) for k in [0, n) on up to `threads` threads (0: one per
-// core). Tasks are taken in order; an exception a task throws is kept and
-// the first (in task order) rethrown once all have ended, so that what
-// comes out does not depend on the number of threads.
-template <class Task>
-void run_tasks(std::size_t n, int threads, const Task& task) {
-  std::vector<std::exception_ptr> failed(n);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&]() {
-    for (std::size_t k = next++; k < n; k = next++) {
-      try {
-        task(k);
-      } catch (...) {
-        failed[k] = std::current_exception();
-      }
-    }
-  };
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t n_threads = std::min<std::size_t>(n, threads > 0 ? std::size_t(threads) : hw);
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < n_threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
-}
-
 // The directions tried on each face: the requested one, or for Auto both
-// (the shorter cutting length wins, see adaptive_isocurve()).
+// (the shorter planned length wins, see adaptive_isocurve()).
 std::vector<IsoDirection> directions_to_try(const IsoParams& params) {
   if (params.direction == IsoDirection::Auto) return {IsoDirection::V, IsoDirection::U};
   return {params.direction};
@@ -225,7 +196,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const std::size_t tasks = planes ? 0 : picked.size() * nd;
   const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
   std::vector<FaceResult> tried(tasks);
-  run_tasks(tasks, params.threads, [&](std::size_t k) {
+  for_each_index(tasks, params.threads, [&](std::size_t k) {
     const std::size_t f = k / nd, di = k % nd;
     const PickedFace& face = model_faces[picked[f]];
     try {
@@ -260,7 +231,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   std::vector<FacePathStats> cut_stats(ranges.size());
   std::size_t cut_done = 0;
   std::mutex cut_lock;  // the count and the progress it reports
-  run_tasks(ranges.size(), params.threads, [&](std::size_t k) {
+  for_each_index(ranges.size(), params.threads, [&](std::size_t k) {
     check_cancel(progress);
     const Range& rg = ranges[k];
     const FaceResult& fr = done[rg.face];

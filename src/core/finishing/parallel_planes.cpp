@@ -5,44 +5,18 @@
 
 #include <Standard_Failure.hxx>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <functional>
 #include <memory>
-#include <thread>
 #include <unordered_map>
 
 #include "finishing/plane_trace.h"
+#include "finishing/task_pool.h"
 #include "isocam/errors.h"
 #include "toolpath/linearize.h"
 
 namespace isocam {
 namespace {
-
-// Runs fn(k) for k in [0, n) on up to `threads` threads (0: one per core);
-// each k on one thread. The first failure by index is rethrown.
-void for_each_index(std::size_t n, int threads, const std::function<void(std::size_t)>& fn) {
-  std::vector<std::exception_ptr> failed(n);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&]() {
-    for (std::size_t k = next++; k < n; k = next++) {
-      try {
-        fn(k);
-      } catch (...) {
-        failed[k] = std::current_exception();
-      }
-    }
-  };
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t count = std::min<std::size_t>(n, threads > 0 ? std::size_t(threads) : hw);
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < count; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& e : failed)
-    if (e) std::rethrow_exception(e);
-}
 
 // Ball centres along part of a plane curve, with the curve parameter of each.
 using Run = CentrePolyline;

@@ -33,7 +33,7 @@
 namespace isocam {
 
 enum class IsoDirection {
-  Auto,  // per face, the direction with the shorter cutting length
+  Auto,  // per face, the direction whose planned path (before clearance cuts) is shorter
   U,     // iso-U curves: u constant, the curve runs along v
   V,     // iso-V curves: v constant, the curve runs along u
 };
