@@ -98,9 +98,9 @@ _INPUTS = (
         "ProtectModel",
         "Adaptive Isocurve",
         "Keep the ball clear of every face of the model, not only the picked "
-        "ones. Near a trimmed face's edges the check is conservative and may "
-        "leave material along a neighbour's edge (UnreachableLength says how "
-        "much), never a gouge. Off: only the picked faces are protected.",
+        "ones (each face inside its edges). Where another face keeps the ball "
+        "from a picked one, material is left (UnreachableLength says how "
+        "much). Off: only the picked faces are protected.",
         True,
     ),
     (
