@@ -296,7 +296,7 @@ int TrimDomain::cached(const RectKey& key, Decide decide) const {
   }
   const int answer = decide();  // the same on every thread: no race on what is stored
   const std::lock_guard<std::mutex> guard(shard.lock);
-  if (shard.answers.size() >= 100000) shard.answers.clear();
+  if (shard.answers.size() >= 8192) shard.answers.clear();  // at most 128k answers a face
   shard.answers.emplace(key, answer);
   return answer;
 }
