@@ -239,14 +239,21 @@ FaceCoverage uniform_coverage(const PatchGrid& g, int face, IsoDirection dir,
                               const ProgressSlice& progress) {
   // Doubling then bisection on the number of steps; the answer is verified,
   // so the guarantee holds even where validity is not monotone in n.
+  // Progress: the doubling has no known end, so each of its rounds goes
+  // half way to 1/2; the bisection then counts its log2 rounds up to 1.
   FaceCoverage m;
   int hi = 1;
+  double shown = 0.0;
   while (!uniform_ok(g, hi, field, &m, progress)) {
     hi *= 2;
     if (hi > (1 << 20) || g.vmax() - g.vmin() < params.min_param_gap * hi * (g.vmax() - g.vmin()))
       throw GeometryError(face_label(face) + ": no uniform isocurve spacing reaches delta");
+    shown += 0.5 * (0.5 - shown);
+    progress.report(shown);
   }
   int lo = hi / 2;  // lo fails (or is 0)
+  const double rounds = std::max(1.0, std::ceil(std::log2(double(hi - lo))));
+  int round = 0;
   FaceCoverage c = m;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
@@ -256,7 +263,9 @@ FaceCoverage uniform_coverage(const PatchGrid& g, int face, IsoDirection dir,
     } else {
       lo = mid;
     }
+    progress.report(0.5 + 0.5 * std::min(1.0, ++round / rounds));
   }
+  progress.report(1.0);
   const double dv = (g.vmax() - g.vmin()) / hi;
   for (int k = 0; k <= hi; ++k) {
     c.curves.push_back({face, dir, k == hi ? g.vmax() : g.vmin() + k * dv, g.umin(), g.umax()});
