@@ -32,7 +32,7 @@ import FreeCAD
 import Path
 
 from freecad_ext import compat, op_base
-from freecad_ext.compat import PathLog, PathOp
+from freecad_ext.compat import PathOp
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
 
 __title__ = "IsoCAM Adaptive Isocurve operation"
@@ -187,8 +187,23 @@ _OUTPUTS = (
 _OUTPUT_GROUP = "Certificate"
 
 
+# Core argument names -> what the FreeCAD user sets.
+_ARGUMENT_SOURCES = (
+    ("scallop_height", "property ScallopHeight"),
+    ("chord_tolerance", "property ChordTolerance"),
+    ("safe_z", "property SafeHeight"),
+    ("ball_radius", "the tool controller's tool diameter / 2"),
+    ("direction", "property Direction"),
+    ("pattern", "property Pattern"),
+    ("scallop_bound", "property ScallopBound"),
+)
+
+
 class ObjectAdaptiveIsocurve(IsoCAMOp):
     """Proxy of an Adaptive Isocurve operation (module-level so documents reopen)."""
+
+    OUTPUTS = _OUTPUTS
+    ARGUMENT_SOURCES = _ARGUMENT_SOURCES
 
     # -- PathOp hooks -------------------------------------------------------
 
@@ -209,18 +224,7 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
 
     def opExecute(self, obj):
         started = time.monotonic()
-        try:
-            core = compat.import_core()
-        except ImportError as exc:
-            self._fail(obj, str(exc))
-        try:
-            results = self._compute(obj, core)
-        except (IsoCAMError, ValueError, RuntimeError, core.CancelledError) as exc:
-            self._fail(obj, _describe(exc))
-        except Exception:
-            _clear_outputs(obj)
-            obj.Path = Path.Path()
-            raise
+        results = self.compute_or_fail(obj)
         self._emit_commands(obj, results)
         metrics = _combined_metrics(results)
         _write_outputs(obj, metrics, _directions_used(results))
@@ -291,15 +295,6 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
                 commands_from_moves(res.kind, res.xyz, self.horizFeed, self.vertFeed)
             )
 
-    def _fail(self, obj, message):
-        """Report `message`, leave an empty path and no certificate, raise."""
-        message = "%s: %s" % (obj.Label, message)
-        PathLog.error(message)
-        _clear_outputs(obj)
-        obj.Path = Path.Path()
-        # The message says it all; FreeCAD prints the traceback of this raise.
-        raise IsoCAMError(message) from None
-
 
 # -- helpers (module level: small, no FreeCAD object state) -----------------
 
@@ -356,22 +351,6 @@ def _iso_params(obj, core, ball_radius):
     params.protect_unpicked_faces = bool(obj.ProtectModel)
     params.safe_z = obj.SafeHeight.Value
     return params
-
-
-# Core argument names -> what the FreeCAD user sets.
-_ARGUMENT_SOURCES = (
-    ("scallop_height", "property ScallopHeight"),
-    ("chord_tolerance", "property ChordTolerance"),
-    ("safe_z", "property SafeHeight"),
-    ("ball_radius", "the tool controller's tool diameter / 2"),
-    ("direction", "property Direction"),
-    ("pattern", "property Pattern"),
-    ("scallop_bound", "property ScallopBound"),
-)
-
-
-def _describe(exc):
-    return op_base.describe(exc, _ARGUMENT_SOURCES)
 
 
 def _wait(worker, progress):
@@ -445,12 +424,6 @@ def _write_outputs(obj, metrics, directions):
         if attr is not None:
             setattr(obj, name, metrics[attr])
     obj.DirectionUsed = directions
-
-
-def _clear_outputs(obj):
-    for prop_type, name, _attr, _tip in _OUTPUTS:
-        if hasattr(obj, name):
-            setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
 
 
 def _print_certificate(obj, m, seconds):

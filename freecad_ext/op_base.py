@@ -8,9 +8,10 @@ headless pitfall with two or more tool controllers).
 """
 
 import FreeCAD
+import Path
 
 from freecad_ext import compat
-from freecad_ext.compat import PathOp
+from freecad_ext.compat import PathLog, PathOp
 
 
 class IsoCAMError(Exception):
@@ -42,7 +43,13 @@ def picked_faces(obj, what="faces"):
 
 class IsoCAMOp(PathOp.ObjectOp):
     """Base of our operation proxies (each lives in an importable module, so
-    saved documents reopen). Subclasses say which tools they accept."""
+    saved documents reopen). Subclasses say which tools they accept, their
+    read-only OUTPUTS ((type, property, metrics attribute, tip) rows) and
+    ARGUMENT_SOURCES (which FreeCAD input sets a core argument), and compute
+    in _compute(obj, core)."""
+
+    OUTPUTS = ()
+    ARGUMENT_SOURCES = ()
 
     def __init__(self, obj, name, parentJob=None, toolController=None):
         # Read by isToolSupported/opSetDefaultValues while the base class
@@ -81,6 +88,39 @@ class IsoCAMOp(PathOp.ObjectOp):
         if requested is not None:
             obj.ToolController = requested
             obj.OpToolDiameter = requested.Tool.Diameter
+
+    def compute_or_fail(self, obj):
+        """Import the core and return self._compute(obj, core). A bad input or
+        an error of the core marks this operation in error (fail()); anything
+        else empties the outputs and the path and goes on up."""
+        try:
+            core = compat.import_core()
+        except ImportError as exc:
+            self.fail(obj, str(exc))
+        try:
+            return self._compute(obj, core)
+        except (IsoCAMError, ValueError, RuntimeError, core.CancelledError) as exc:
+            self.fail(obj, describe(exc, self.ARGUMENT_SOURCES))
+        except Exception:
+            clear_outputs(obj, self.OUTPUTS)
+            obj.Path = Path.Path()
+            raise
+
+    def fail(self, obj, message):
+        """Report `message`, leave an empty path and no outputs, raise."""
+        message = "%s: %s" % (obj.Label, message)
+        PathLog.error(message)
+        clear_outputs(obj, self.OUTPUTS)
+        obj.Path = Path.Path()
+        # The message says it all; FreeCAD prints the traceback of this raise.
+        raise IsoCAMError(message) from None
+
+
+def clear_outputs(obj, outputs):
+    """Zero (or empty) the read-only output properties `obj` has."""
+    for prop_type, name, _attr, _tip in outputs:
+        if hasattr(obj, name):
+            setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
 
 
 def describe(exc, argument_sources):

@@ -179,11 +179,6 @@ def write_outputs(obj, outputs, metrics):
         setattr(obj, name, getattr(metrics, attr))
 
 
-def clear_outputs(obj, outputs):
-    for prop_type, name, _attr, _tip in outputs:
-        if hasattr(obj, name):
-            setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
-
 
 # Metrics every pocketing op reports (type, property, metrics attribute, tip).
 OUTPUTS = (
@@ -277,6 +272,7 @@ class PocketOp(IsoCAMOp):
     subclass's INPUTS plus the shared certificate OUTPUTS as properties."""
 
     INPUTS = ()
+    OUTPUTS = OUTPUTS
 
     def opFeatures(self, obj):
         return (

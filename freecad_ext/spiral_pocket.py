@@ -73,8 +73,21 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
+# Core argument names -> what the FreeCAD user sets.
+_ARGUMENT_SOURCES = (
+    ("stepover", "property StepOver"),
+    ("tolerance", "property Tolerance"),
+    ("scallop_height", "property ScallopHeight"),
+    ("safe_z", "property SafeHeight"),
+    ("depths", "properties StartDepth / FinalDepth / StepDown"),
+    ("tool_radius", "the tool controller's tool diameter / 2"),
+)
+
+
 class ObjectSpiralPocket(pocket_glue.PocketOp):
     """Proxy of a Spiral Pocket operation (module-level so documents reopen)."""
+
+    ARGUMENT_SOURCES = _ARGUMENT_SOURCES
 
     INPUTS = _INPUTS
 
@@ -82,18 +95,7 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
 
     def opExecute(self, obj):
         started = time.monotonic()
-        try:
-            core = compat.import_core()
-        except ImportError as exc:
-            self._fail(obj, str(exc))
-        try:
-            results = self._compute(obj, core)
-        except (IsoCAMError, ValueError, RuntimeError, core.CancelledError) as exc:
-            self._fail(obj, _describe(exc))
-        except Exception:
-            pocket_glue.clear_outputs(obj, _OUTPUTS)
-            obj.Path = Path.Path()
-            raise
+        results = self.compute_or_fail(obj)
         self._emit_commands(obj, results)
         metrics = _combined(results)
         pocket_glue.write_outputs(obj, _OUTPUTS, metrics)
@@ -145,28 +147,6 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
                     res.kind, res.xyz, res.centre, self.horizFeed, self.vertFeed
                 )
             )
-
-    def _fail(self, obj, message):
-        message = "%s: %s" % (obj.Label, message)
-        PathLog.error(message)
-        pocket_glue.clear_outputs(obj, _OUTPUTS)
-        obj.Path = Path.Path()
-        raise IsoCAMError(message) from None
-
-
-# Core argument names -> what the FreeCAD user sets.
-_ARGUMENT_SOURCES = (
-    ("stepover", "property StepOver"),
-    ("tolerance", "property Tolerance"),
-    ("scallop_height", "property ScallopHeight"),
-    ("safe_z", "property SafeHeight"),
-    ("depths", "properties StartDepth / FinalDepth / StepDown"),
-    ("tool_radius", "the tool controller's tool diameter / 2"),
-)
-
-
-def _describe(exc):
-    return op_base.describe(exc, _ARGUMENT_SOURCES)
 
 
 class _Combined:

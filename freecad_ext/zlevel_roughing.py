@@ -66,8 +66,20 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
+_ARGUMENT_SOURCES = (
+    ("stepover", "property StepOver"),
+    ("tolerance", "property Tolerance"),
+    ("stock_to_leave", "property StockToLeave"),
+    ("safe_z", "property SafeHeight"),
+    ("depths", "properties StartDepth / FinalDepth / StepDown"),
+    ("tool_radius", "the tool controller's tool diameter / 2"),
+)
+
+
 class ObjectZLevelRoughing(pocket_glue.PocketOp):
     """Proxy of a Z-level Roughing operation."""
+
+    ARGUMENT_SOURCES = _ARGUMENT_SOURCES
 
     INPUTS = _INPUTS
 
@@ -83,18 +95,7 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
 
     def opExecute(self, obj):
         started = time.monotonic()
-        try:
-            core = compat.import_core()
-        except ImportError as exc:
-            self._fail(obj, str(exc))
-        try:
-            res = self._compute(obj, core)
-        except (IsoCAMError, ValueError, RuntimeError, core.CancelledError) as exc:
-            self._fail(obj, _describe(exc))
-        except Exception:
-            pocket_glue.clear_outputs(obj, _OUTPUTS)
-            obj.Path = Path.Path()
-            raise
+        res = self.compute_or_fail(obj)
         clearance = obj.ClearanceHeight.Value
         x0, y0 = (float(v) for v in res.xyz[0][:2])
         self.commandlist.append(Path.Command("G0", {"Z": clearance}))
@@ -148,27 +149,6 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
                 "above the model, and the tool small enough?)"
             )
         return res
-
-    def _fail(self, obj, message):
-        message = "%s: %s" % (obj.Label, message)
-        PathLog.error(message)
-        pocket_glue.clear_outputs(obj, _OUTPUTS)
-        obj.Path = Path.Path()
-        raise IsoCAMError(message) from None
-
-
-_ARGUMENT_SOURCES = (
-    ("stepover", "property StepOver"),
-    ("tolerance", "property Tolerance"),
-    ("stock_to_leave", "property StockToLeave"),
-    ("safe_z", "property SafeHeight"),
-    ("depths", "properties StartDepth / FinalDepth / StepDown"),
-    ("tool_radius", "the tool controller's tool diameter / 2"),
-)
-
-
-def _describe(exc):
-    return op_base.describe(exc, _ARGUMENT_SOURCES)
 
 
 def SetupProperties():
