@@ -50,7 +50,9 @@ class ClearanceModel {
 
   // False if some surface point is closer than d to the segment [a, b]
   // (then `witness`, if given, receives that point); true if none is closer
-  // than d - eps. Between the two either answer may come.
+  // than d - eps. Between the two either answer may come. A query that
+  // cannot be decided within its work budget answers false with no witness
+  // (it costs path, never a gouge).
   bool clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness = nullptr) const;
   bool clear(const gp_Pnt& c, double d, Witness* witness = nullptr) const {
     return clear(c, c, d, witness);
