@@ -235,8 +235,13 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     check_cancel(progress);
     const Range& rg = ranges[k];
     const FaceResult& fr = done[rg.face];
-    cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
-                         params, model, &cut_stats[k]);
+    try {
+      cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
+                           params, model, &cut_stats[k]);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(model_faces[picked[rg.face]].index) +
+                          ": OpenCASCADE failed: " + e.GetMessageString());
+    }
     const std::lock_guard<std::mutex> guard(cut_lock);
     report_progress(progress, 0.6 + 0.35 * double(++cut_done) / double(ranges.size()));
   });
