@@ -76,7 +76,7 @@ class RunSplitter {
     // own only next to a chord that is not clear (most chords are).
     const std::size_t n = line.pts.size();
     std::vector<char> chord(n, 1), ok(n, 1);
-    for (std::size_t i = 1; i < n; ++i) chord[i] = model_.clear(line.pts[i - 1], line.pts[i], clearance_);
+    if (n > 1) model_.clear_polyline(line.pts.data(), n, clearance_, &chord[1]);
     for (std::size_t i = 0; i < n; ++i) {
       const bool sure = (i > 0 && chord[i]) || (i + 1 < n && chord[i + 1]);
       ok[i] = sure || model_.clear(line.pts[i], clearance_);

@@ -265,42 +265,86 @@ int ClearanceModel::build_node(int lo, int hi) {
   return id;
 }
 
+// A segment of ball-centre positions, with what the distance tests reuse.
+struct ClearanceModel::Segment {
+  gp_Pnt a, b;
+  gp_XYZ ab;
+  double ab2 = 0.0;
+  Segment() = default;
+  Segment(const gp_Pnt& p, const gp_Pnt& q) : a(p), b(q), ab(q.XYZ() - p.XYZ()), ab2(ab.SquareModulus()) {}
+};
+
 bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness) const {
-  if (nodes_.empty()) return true;
-  // Nearest node first: the answer does not depend on the order (any
-  // witness makes it false, and the set of pieces that would be examined is
-  // fixed), but a query that is not clear usually stops at its first node.
-  // The tree is balanced, so its depth is about log2(patches / 4).
-  std::array<int, 128> stack;
-  std::size_t top = 0;
+  const Segment seg(a, b);
+  return blocked(&seg, 1, d, witness) == 0;
+}
+
+void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, char* out) const {
+  std::array<Segment, 32> segs;
+  for (std::size_t first = 0; first + 1 < n; first += 32) {
+    const int count = static_cast<int>(std::min<std::size_t>(32, n - 1 - first));
+    for (int k = 0; k < count; ++k) segs[static_cast<std::size_t>(k)] = Segment(pts[first + k], pts[first + k + 1]);
+    const std::uint32_t hit = blocked(segs.data(), count, d, nullptr);
+    for (int k = 0; k < count; ++k) out[first + static_cast<std::size_t>(k)] = !(hit >> k & 1u);
+  }
+}
+
+std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
+                                      Witness* witness) const {
+  if (nodes_.empty() || count == 0) return 0;
+  const std::uint32_t all = count == 32 ? ~0u : (1u << count) - 1u;
   const double keep = d - eps_;  // what a box must be beyond to be passed
-  if (segment_box_beyond(a, b, nodes_[0].box.lo, nodes_[0].box.hi, keep)) return true;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
+  // The segments of `mask` that are not beyond the box.
+  auto near = [&](std::uint32_t mask, const double lo[3], const double hi[3]) {
+    for (std::uint32_t m = mask; m; m &= m - 1) {
+      const Segment& s = segs[__builtin_ctz(m)];
+      if (segment_box_beyond(s.a, s.b, lo, hi, keep)) mask &= ~(m & -m);
+    }
+    return mask;
+  };
+  // Nearest node first (for the lowest segment asked about): the answers
+  // do not depend on the order (a witness blocks its segment, and the set of
+  // pieces that would be examined for a segment is fixed), but a query that
+  // is not clear usually stops at its first node. The tree is balanced, so
+  // its depth is about log2(patches / 4).
+  std::array<std::pair<int, std::uint32_t>, 128> stack;
+  std::size_t top = 0;
+  std::uint32_t hit = 0;
+  const std::uint32_t root = near(all, nodes_[0].box.lo, nodes_[0].box.hi);
+  if (!root) return 0;
+  stack[top++] = {0, root};
+  while (top > 0 && hit != all) {
+    const auto [id, asked] = stack[--top];
+    const std::uint32_t mask = asked & ~hit;
+    if (!mask) continue;
+    const Node& n = nodes_[static_cast<std::size_t>(id)];
     if (n.left >= 0) {
       const Node& l = nodes_[static_cast<std::size_t>(n.left)];
       const Node& r = nodes_[static_cast<std::size_t>(n.right)];
-      const bool near_l = !segment_box_beyond(a, b, l.box.lo, l.box.hi, keep);
-      const bool near_r = !segment_box_beyond(a, b, r.box.lo, r.box.hi, keep);
+      const std::uint32_t near_l = near(mask, l.box.lo, l.box.hi);
+      const std::uint32_t near_r = near(mask, r.box.lo, r.box.hi);
       if (top + 2 > stack.size()) throw GeometryError("clearance: hierarchy too deep");
-      const bool left_first =
-          segment_box_bound2(a, b, l.box.lo, l.box.hi) <= segment_box_bound2(a, b, r.box.lo, r.box.hi);
-      if (left_first ? near_r : near_l) stack[top++] = left_first ? n.right : n.left;
-      if (left_first ? near_l : near_r) stack[top++] = left_first ? n.left : n.right;
+      const Segment& s = segs[__builtin_ctz(mask)];
+      const bool left_first = segment_box_bound2(s.a, s.b, l.box.lo, l.box.hi) <=
+                              segment_box_bound2(s.a, s.b, r.box.lo, r.box.hi);
+      if (left_first ? near_r : near_l) stack[top++] = {left_first ? n.right : n.left, left_first ? near_r : near_l};
+      if (left_first ? near_l : near_r) stack[top++] = {left_first ? n.left : n.right, left_first ? near_l : near_r};
       continue;
     }
     for (int k = n.patch_lo; k < n.patch_hi; ++k) {
       const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
-      if (segment_box_beyond(a, b, p.box.lo, p.box.hi, keep)) continue;
-      auto local = [&p](const gp_Pnt& q) {
-        return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
-      };
-      if (segment_box_beyond(local(a), local(b), p.olo, p.ohi, keep)) continue;
-      if (!patch_clear(p, a, b, d, witness)) return false;
+      std::uint32_t m = near(mask & ~hit, p.box.lo, p.box.hi);
+      for (std::uint32_t b = m; b; b &= b - 1) {
+        const Segment& s = segs[__builtin_ctz(b)];
+        auto local = [&p](const gp_Pnt& q) {
+          return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
+        };
+        if (segment_box_beyond(local(s.a), local(s.b), p.olo, p.ohi, keep)) m &= ~(b & -b);
+      }
+      if (m) hit |= patch_blocked(p, segs, m, d, witness);
     }
   }
-  return true;
+  return hit;
 }
 
 namespace {
@@ -312,7 +356,8 @@ struct Piece {
   double u0, u1, v0, v1;
   std::size_t first;
   int depth;
-  bool inside;  // known to lie inside the face's trimmed domain
+  bool inside;         // known to lie inside the face's trimmed domain
+  std::uint32_t mask;  // the segments it is still near
 };
 
 struct Work {
@@ -357,30 +402,39 @@ double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp
 
 }  // namespace
 
-bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_Pnt& b,
-                                 double d, Witness* witness) const {
+std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
+                                            std::uint32_t mask, double d, Witness* witness) const {
   const int pu = patch.pu, pv = patch.pv;
   const int n = (pu + 1) * (pv + 1);
   const std::size_t sz = static_cast<std::size_t>(n);
-  const double d2 = d * d;
-  const gp_XYZ ax = a.XYZ(), ab = b.XYZ() - a.XYZ();
-  const double ab2 = ab.SquareModulus();
+  const double d2 = d * d, keep = d - eps_;
+  auto dist2 = [&](const gp_XYZ& q, std::uint32_t bit) {
+    const Segment& s = segs[__builtin_ctz(bit)];
+    return squared_point_segment_distance(q, s.a.XYZ(), s.ab, s.ab2);
+  };
   Work& w = work();
   w.pieces.clear();
   w.cps.assign(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
                cps_.begin() + static_cast<std::ptrdiff_t>(patch.first + sz));
-  w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr});
+  w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr, mask});
   std::array<H4, kMaxNet> c;
   std::array<gp_Pnt, kMaxNet> pts;
-  // A query that cannot be decided within this many pieces answers "not
-  // clear": slow cases cost some path, never a gouge.
-  int budget = 4000;
-  while (!w.pieces.empty()) {
-    if (--budget < 0) return false;
+  std::uint32_t hit = 0;
+  // Segments that cannot be decided within this many pieces (each) count as
+  // blocked: slow cases cost some path, never a gouge.
+  int budget = 4000 * __builtin_popcount(mask);
+  while (!w.pieces.empty() && (mask & ~hit)) {
     Piece piece = w.pieces.back();
     w.pieces.pop_back();
     std::copy(w.cps.begin() + static_cast<std::ptrdiff_t>(piece.first), w.cps.end(), c.begin());
     w.cps.resize(piece.first);
+    std::uint32_t m = piece.mask & ~hit;
+    if (!m) continue;
+    if (--budget < 0) {
+      hit |= m;
+      for (const Piece& rest : w.pieces) hit |= rest.mask;
+      break;
+    }
     if (!piece.inside) {
       const int state = patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
       if (state < 0) continue;  // this piece is outside the face
@@ -399,35 +453,48 @@ bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_P
                                pts[static_cast<std::size_t>((pu + 1) * pv)], pts[sz - 1]};
     const double cu[4] = {piece.u0, piece.u1, piece.u0, piece.u1};
     const double cv[4] = {piece.v0, piece.v0, piece.v1, piece.v1};
-    for (int k = 0; k < 4; ++k)
-      if (squared_point_segment_distance(corners[k].XYZ(), ax, ab, ab2) < d2 &&
-          (piece.inside || patch.trim->contains(cu[k], cv[k]))) {
+    for (int k = 0; k < 4 && m; ++k) {
+      int inside = piece.inside ? 1 : -1;  // -1: not asked yet
+      for (std::uint32_t b = m; b; b &= b - 1) {
+        if (dist2(corners[k].XYZ(), b & -b) >= d2) continue;
+        if (inside < 0) inside = patch.trim->contains(cu[k], cv[k]) ? 1 : 0;
+        if (!inside) break;
+        hit |= b & -b;
         if (witness) *witness = {patch.grid, cu[k], cv[k]};
-        return false;
       }
+      m &= ~hit;
+    }
+    if (!m) continue;
     const Obb box(pts.data(), n, corners);
-    if (segment_box_beyond(box.local(a), box.local(b), box.lo, box.hi, d - eps_)) continue;
+    for (std::uint32_t b = m; b; b &= b - 1) {
+      const Segment& s = segs[__builtin_ctz(b)];
+      if (segment_box_beyond(box.local(s.a), box.local(s.b), box.lo, box.hi, keep)) m &= ~(b & -b);
+    }
+    if (!m) continue;
     // A piece this small with no corner closer than d has no point closer
     // than d - eps (its box's diagonal is under eps).
     if (box.extent() * 1.7320508075688772 <= eps_) continue;
     // Subdivision that does not shrink the box (it should): not proved.
-    if (piece.depth > 60) return false;
+    if (piece.depth > 60) {
+      hit |= m;
+      continue;
+    }
     // Split across the longer parametric direction of the control net. The
-    // half on the side of the corner nearer the segment goes on top, so that
-    // a witness, if any, is met early (the answer does not depend on the
-    // order, only the work).
+    // half on the side of the corner nearer the (first) segment goes on top,
+    // so that a witness, if any, is met early (the answers do not depend on
+    // the order, only the work).
     const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     const bool along_u = lu >= lv;
     const std::size_t at = w.cps.size();
     w.cps.resize(at + 2 * sz);
-    const bool low_nearer = squared_point_segment_distance(corners[0].XYZ(), ax, ab, ab2) <=
-                            squared_point_segment_distance(corners[3].XYZ(), ax, ab, ab2);
+    const bool low_nearer = dist2(corners[0].XYZ(), m & -m) <= dist2(corners[3].XYZ(), m & -m);
     H4* bottom = w.cps.data() + at;
     split_net(c.data(), pu, pv, along_u, low_nearer ? bottom + sz : bottom,
               low_nearer ? bottom : bottom + sz);
     Piece lo = piece, hi = piece;
     lo.depth = hi.depth = piece.depth + 1;
+    lo.mask = hi.mask = m;
     if (along_u) {
       lo.u1 = hi.u0 = 0.5 * (piece.u0 + piece.u1);
     } else {
@@ -440,7 +507,7 @@ bool ClearanceModel::patch_clear(const Patch& patch, const gp_Pnt& a, const gp_P
     w.pieces.push_back(below);
     w.pieces.push_back(above);
   }
-  return true;
+  return hit;
 }
 
 double ClearanceModel::local_distance(const gp_Pnt& q, Witness* w) {

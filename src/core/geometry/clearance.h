@@ -18,6 +18,7 @@
 //    other).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <gp_Pnt.hxx>
@@ -58,6 +59,12 @@ class ClearanceModel {
     return clear(c, c, d, witness);
   }
 
+  // clear() of each segment [pts[k], pts[k + 1]] of a polyline of n points,
+  // into out[k] (k < n - 1), with the same guarantee. Runs of consecutive
+  // segments share the subdivision of the surface near them: cheaper than a
+  // query each.
+  void clear_polyline(const gp_Pnt* pts, std::size_t n, double d, char* out) const;
+
   // The distance from q to the nearest point of the witness's face found by
   // Newton's method from the witness (a local minimum of the untrimmed
   // surface: an estimate, not a proof of anything); moves the witness
@@ -97,8 +104,13 @@ class ClearanceModel {
 
   int build_node(int lo, int hi);
   void add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim);
-  bool patch_clear(const Patch& p, const gp_Pnt& a, const gp_Pnt& b, double d,
-                   Witness* witness) const;
+  // Up to 32 segments at once (bit k for segs[k]; `mask` the ones asked
+  // about): the ones some surface point comes closer than d to. With one
+  // segment, `witness` receives the point found.
+  struct Segment;
+  std::uint32_t blocked(const Segment* segs, int count, double d, Witness* witness) const;
+  std::uint32_t patch_blocked(const Patch& p, const Segment* segs, std::uint32_t mask, double d,
+                              Witness* witness) const;
 
   double eps_, max_piece_;
   std::vector<H4> cps_;
