@@ -29,7 +29,6 @@ import threading
 import time
 
 import FreeCAD
-import Path
 
 from freecad_ext import compat, op_base
 from freecad_ext.compat import PathOp
@@ -51,9 +50,6 @@ _ENUMERATIONS = {
     "Pattern": PATTERNS,
     "ScallopBound": SCALLOP_BOUNDS,
 }
-
-# Move kinds of the core's flat toolpath arrays (src/core toolpath.h).
-MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE = 0, 1, 2
 
 # (type, name, group, tooltip, default) of the user's parameters.
 _INPUTS = (
@@ -225,7 +221,7 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
     def opExecute(self, obj):
         started = time.monotonic()
         results = self.compute_or_fail(obj)
-        self._emit_commands(obj, results)
+        self.emit_commands(obj, results)
         metrics = _combined_metrics(results)
         _write_outputs(obj, metrics, _directions_used(results))
         _print_certificate(obj, metrics, time.monotonic() - started)
@@ -279,21 +275,6 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
             raise exc
         return outcome["result"]
 
-    def _emit_commands(self, obj, results):
-        """Append the moves: up to ClearanceHeight, across, then the core's path.
-
-        The core's first move is a rapid to (x0, y0, SafeHeight) from
-        wherever the machine is; going across at ClearanceHeight first makes
-        that a straight descent.
-        """
-        clearance = obj.ClearanceHeight.Value
-        x0, y0 = (float(v) for v in results[0].xyz[0][:2])
-        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
-        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
-        for res in results:
-            self.commandlist.extend(
-                commands_from_moves(res.kind, res.xyz, self.horizFeed, self.vertFeed)
-            )
 
 
 # -- helpers (module level: small, no FreeCAD object state) -----------------
@@ -365,29 +346,6 @@ def _wait(worker, progress):
     from freecad_ext.gui import progress as gui_progress  # GUI only
 
     gui_progress.wait(worker, progress, "Adaptive isocurve")
-
-
-def commands_from_moves(kind, xyz, horiz_feed, vert_feed):
-    """Path.Commands for the core's flat arrays (kind (N,), xyz (N,3)).
-
-    Rapid -> G0; feed -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`
-    (FreeCAD's units: mm and mm/s).
-    """
-    commands = []
-    for k, (x, y, z) in zip(kind.tolist(), xyz.tolist()):
-        if k == MOVE_RAPID:
-            commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
-        elif k == MOVE_FEED:
-            commands.append(
-                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
-            )
-        elif k == MOVE_PLUNGE:
-            commands.append(
-                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": vert_feed})
-            )
-        else:
-            raise IsoCAMError("the core returned an unknown move kind %d" % k)
-    return commands
 
 
 def _combined_metrics(results):

@@ -7,11 +7,18 @@ one qualifies, which avoids FreeCAD's GUI-only choice among several (the
 headless pitfall with two or more tool controllers).
 """
 
+import math
+
 import FreeCAD
 import Path
 
 from freecad_ext import compat
 from freecad_ext.compat import PathLog, PathOp
+
+
+# Move kinds of the core's flat toolpath arrays (src/core isocam/toolpath.h,
+# isocam/pocketing.h).
+MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW = 0, 1, 2, 3, 4
 
 
 class IsoCAMError(Exception):
@@ -106,6 +113,25 @@ class IsoCAMOp(PathOp.ObjectOp):
             obj.Path = Path.Path()
             raise
 
+    def emit_commands(self, obj, results):
+        """Append the moves: up to ClearanceHeight, across, then each core
+        result's path (arcs where it has them).
+
+        The core's first move is a rapid to (x0, y0, SafeHeight) from
+        wherever the machine is; going across at ClearanceHeight first makes
+        that a straight descent.
+        """
+        clearance = obj.ClearanceHeight.Value
+        x0, y0 = (float(v) for v in results[0].xyz[0][:2])
+        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
+        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
+        for res in results:
+            self.commandlist.extend(
+                commands_from_moves(
+                    res.kind, res.xyz, self.horizFeed, self.vertFeed, getattr(res, "centre", None)
+                )
+            )
+
     def fail(self, obj, message):
         """Report `message`, leave an empty path and no outputs, raise."""
         message = "%s: %s" % (obj.Label, message)
@@ -157,3 +183,48 @@ def create_op(proxy_class, name, obj, parent_job, tool_controller, missing_tc):
             obj.Document.removeObject(obj.Name)
         raise IsoCAMError("%s: %s" % (name, missing_tc)) from None
     return obj
+
+
+def commands_from_moves(kind, xyz, horiz_feed, vert_feed, centre=None):
+    """Path.Commands for the core's flat arrays: kind (N,), xyz (N,3) and,
+    where the path has arcs, centre (N,2).
+
+    Rapid -> G0; feed -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`
+    (FreeCAD's units: mm and mm/s); arcs -> G2 (clockwise) / G3 with I, J
+    relative to the arc's start, as FreeCAD's Path and the post-processors
+    expect.
+    """
+    commands = []
+    px = py = None
+    centres = centre.tolist() if centre is not None else [(math.nan, math.nan)] * len(kind)
+    for k, (x, y, z), (cx, cy) in zip(kind.tolist(), xyz.tolist(), centres):
+        if k == MOVE_RAPID:
+            commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
+        elif k == MOVE_FEED:
+            commands.append(
+                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
+            )
+        elif k == MOVE_PLUNGE:
+            commands.append(
+                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": vert_feed})
+            )
+        elif k in (MOVE_ARC_CW, MOVE_ARC_CCW):
+            if px is None or math.isnan(cx):
+                raise IsoCAMError("the core returned an arc without a start or centre")
+            commands.append(
+                Path.Command(
+                    "G2" if k == MOVE_ARC_CW else "G3",
+                    {
+                        "X": x,
+                        "Y": y,
+                        "Z": z,
+                        "I": cx - px,
+                        "J": cy - py,
+                        "F": horiz_feed,
+                    },
+                )
+            )
+        else:
+            raise IsoCAMError("the core returned an unknown move kind %d" % k)
+        px, py = x, y
+    return commands

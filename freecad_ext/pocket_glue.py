@@ -1,22 +1,25 @@
 """Shared glue of the pocketing operations (Spiral Pocket, Z-level Roughing).
 
-Maps FreeCAD's depth properties to the core's z levels, runs a core call in a
-worker thread (the core releases the GIL), and turns the core's flat move
-arrays -- with G2/G3 arcs -- into ``Path.Command``s. No geometry here.
+Maps FreeCAD's depth properties to the core's z levels and runs a core call
+in a worker thread (the core releases the GIL); op_base turns the core's flat
+move arrays -- with G2/G3 arcs -- into ``Path.Command``s. No geometry here.
 """
 
-import math
 import threading
 
 import FreeCAD
-import Path
 
 from freecad_ext import compat, op_base
 from freecad_ext.compat import PathOp
-from freecad_ext.op_base import IsoCAMError, IsoCAMOp
-
-# Move kinds of the core's pocketing arrays (src/core isocam/pocketing.h).
-MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW = 0, 1, 2, 3, 4
+from freecad_ext.op_base import (
+    MOVE_ARC_CCW,
+    MOVE_ARC_CW,
+    MOVE_FEED,
+    MOVE_PLUNGE,
+    MOVE_RAPID,
+    IsoCAMError,
+    IsoCAMOp,
+)
 
 DIRECTIONS = ("Climb", "Conventional")
 
@@ -103,48 +106,6 @@ def _wait(worker, progress, name):
         bar.showMessage("%s: %d %%" % (name, int(100 * progress.fraction)))
         QtGui.QApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents)
     bar.clearMessage()
-
-
-def commands_from_moves(kind, xyz, centre, horiz_feed, vert_feed):
-    """Path.Commands for the core's arrays: kind (N,), xyz (N,3), centre (N,2).
-
-    Rapid -> G0; feed -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`;
-    arcs -> G2 (clockwise) / G3 with I, J relative to the arc's start, as
-    FreeCAD's Path and the post-processors expect.
-    """
-    commands = []
-    px = py = None
-    for k, (x, y, z), (cx, cy) in zip(kind.tolist(), xyz.tolist(), centre.tolist()):
-        if k == MOVE_RAPID:
-            commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
-        elif k == MOVE_FEED:
-            commands.append(
-                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
-            )
-        elif k == MOVE_PLUNGE:
-            commands.append(
-                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": vert_feed})
-            )
-        elif k in (MOVE_ARC_CW, MOVE_ARC_CCW):
-            if px is None or math.isnan(cx):
-                raise IsoCAMError("the core returned an arc without a start or centre")
-            commands.append(
-                Path.Command(
-                    "G2" if k == MOVE_ARC_CW else "G3",
-                    {
-                        "X": x,
-                        "Y": y,
-                        "Z": z,
-                        "I": cx - px,
-                        "J": cy - py,
-                        "F": horiz_feed,
-                    },
-                )
-            )
-        else:
-            raise IsoCAMError("the core returned an unknown move kind %d" % k)
-        px, py = x, y
-    return commands
 
 
 def picked_faces(obj):

@@ -23,7 +23,6 @@ rest of the work goes on.
 import time
 
 import FreeCAD
-import Path
 
 from freecad_ext import compat, op_base, pocket_glue
 from freecad_ext.compat import PathLog
@@ -96,7 +95,7 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
     def opExecute(self, obj):
         started = time.monotonic()
         results = self.compute_or_fail(obj)
-        self._emit_commands(obj, results)
+        self.emit_commands(obj, results)
         metrics = _combined(results)
         pocket_glue.write_outputs(obj, _OUTPUTS, metrics)
         _print_summary(obj, metrics, time.monotonic() - started)
@@ -136,17 +135,6 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
             )
         return results
 
-    def _emit_commands(self, obj, results):
-        clearance = obj.ClearanceHeight.Value
-        x0, y0 = (float(v) for v in results[0].xyz[0][:2])
-        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
-        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
-        for res in results:
-            self.commandlist.extend(
-                pocket_glue.commands_from_moves(
-                    res.kind, res.xyz, res.centre, self.horizFeed, self.vertFeed
-                )
-            )
 
 
 class _Combined:

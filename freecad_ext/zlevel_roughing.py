@@ -19,7 +19,6 @@ import time
 
 import FreeCAD
 import Part
-import Path
 
 from freecad_ext import compat, op_base, pocket_glue
 from freecad_ext.compat import PathLog
@@ -96,15 +95,7 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
     def opExecute(self, obj):
         started = time.monotonic()
         res = self.compute_or_fail(obj)
-        clearance = obj.ClearanceHeight.Value
-        x0, y0 = (float(v) for v in res.xyz[0][:2])
-        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
-        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
-        self.commandlist.extend(
-            pocket_glue.commands_from_moves(
-                res.kind, res.xyz, res.centre, self.horizFeed, self.vertFeed
-            )
-        )
+        self.emit_commands(obj, [res])
         pocket_glue.write_outputs(obj, _OUTPUTS, res.metrics)
         m = res.metrics
         FreeCAD.Console.PrintMessage(
