@@ -228,6 +228,19 @@ def arrays_from_path(path, start=(0.0, 0.0, 0.0)):
     )
 
 
+def argument_sources(own):
+    """Core argument names -> what the FreeCAD user sets, for a pocketing op
+    whose own rows are `own` (listed after stepover and tolerance)."""
+    return (
+        ("stepover", "property StepOver"),
+        ("tolerance", "property Tolerance"),
+        *own,
+        ("safe_z", "property SafeHeight"),
+        ("depths", "properties StartDepth / FinalDepth / StepDown"),
+        ("tool_radius", "the tool controller's tool diameter / 2"),
+    )
+
+
 class PocketOp(IsoCAMOp):
     """Base of the pocketing operations: FreeCAD's depth features, and the
     subclass's INPUTS plus the shared certificate OUTPUTS as properties."""

@@ -73,13 +73,8 @@ _OUTPUTS = pocket_glue.OUTPUTS
 
 
 # Core argument names -> what the FreeCAD user sets.
-_ARGUMENT_SOURCES = (
-    ("stepover", "property StepOver"),
-    ("tolerance", "property Tolerance"),
-    ("scallop_height", "property ScallopHeight"),
-    ("safe_z", "property SafeHeight"),
-    ("depths", "properties StartDepth / FinalDepth / StepDown"),
-    ("tool_radius", "the tool controller's tool diameter / 2"),
+_ARGUMENT_SOURCES = pocket_glue.argument_sources(
+    (("scallop_height", "property ScallopHeight"),)
 )
 
 

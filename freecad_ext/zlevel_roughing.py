@@ -65,13 +65,8 @@ _INPUTS = (
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
-_ARGUMENT_SOURCES = (
-    ("stepover", "property StepOver"),
-    ("tolerance", "property Tolerance"),
-    ("stock_to_leave", "property StockToLeave"),
-    ("safe_z", "property SafeHeight"),
-    ("depths", "properties StartDepth / FinalDepth / StepDown"),
-    ("tool_radius", "the tool controller's tool diameter / 2"),
+_ARGUMENT_SOURCES = pocket_glue.argument_sources(
+    (("stock_to_leave", "property StockToLeave"),)
 )
 
 
