@@ -81,6 +81,7 @@ struct Parser {
   Plane plane = Plane::XY;
   double feed = 0.0;
   int line = 0;
+  bool after_rapid = false;
 
   void straight(const std::vector<double>& a, bool rapid) {
     if (a.size() < 3) fail(line, "a straight move needs x, y, z");
@@ -91,8 +92,10 @@ struct Parser {
     m.to = {a[0], a[1], a[2]};
     m.length = dist(m.from, m.to);
     m.feed_rate = rapid ? 0.0 : feed;
-    m.plunge = !rapid && std::fabs(m.to.x - m.from.x) < 1e-9 &&
-               std::fabs(m.to.y - m.from.y) < 1e-9 && m.length > 0;
+    // A plunge: the entry feed straight down after a rapid.
+    m.plunge = !rapid && after_rapid && std::fabs(m.to.x - m.from.x) < 1e-9 &&
+               std::fabs(m.to.y - m.from.y) < 1e-9 && m.to.z < m.from.z;
+    after_rapid = rapid;
     const int index = static_cast<int>(prog.moves.size());
     if (rapid) {
       ++prog.rapids;
@@ -162,6 +165,7 @@ struct Parser {
     // The exact length of the (helical) arc when its radius is constant.
     const double mean_r = 0.5 * (r0 + r1);
     m.length = std::max(length, std::hypot(mean_r * sweep, e.z - s.z));
+    after_rapid = false;
     ++prog.arcs;
     prog.arc_length += m.length;
     prog.feed_time_min += m.length / feed;

@@ -34,7 +34,7 @@ struct Move {
   Vec3 from, to;           // tool tip, program coordinates (mm)
   double length = 0.0;     // along the move (mm)
   double feed_rate = 0.0;  // mm/min in force (feeds and arcs)
-  bool plunge = false;     // a feed along z only
+  bool plunge = false;     // an entry: a feed straight down right after a rapid
 };
 
 // A straight piece of the tool-tip path; arcs are split into pieces whose

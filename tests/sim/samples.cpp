@@ -5,7 +5,12 @@
 #include <stdexcept>
 #include <thread>
 
+#include <BRepAdaptor_Curve2d.hxx>
 #include <BRepTools.hxx>
+#include <BndLib_Add2dCurve.hxx>
+#include <Bnd_Box2d.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Edge.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Tool.hxx>
 #include <GeomAdaptor_Surface.hxx>
@@ -41,7 +46,40 @@ struct FaceJob {
   bool picked = false;
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   int cu = 1, cv = 1;
+  // Cells that a piece of a boundary p-curve may cross: their points are
+  // classified one by one; every other cell is wholly in or out.
+  std::vector<char> boundary;
 };
+
+// The boundary is tracked on sub-cells, kSub x kSub per cell.
+constexpr int kSub = 8;
+
+// Marks the sub-cells met by the bounding boxes of 256 pieces of each
+// edge's p-curve.
+void mark_boundary_cells(FaceJob& job) {
+  const int nu = job.cu * kSub, nv = job.cv * kSub;
+  job.boundary.assign(static_cast<std::size_t>(nu * nv), 0);
+  const double du = (job.u1 - job.u0) / nu, dv = (job.v1 - job.v0) / nv;
+  for (TopExp_Explorer e(job.face, TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
+    BRepAdaptor_Curve2d pc(edge, job.face);
+    const double f = pc.FirstParameter(), l = pc.LastParameter();
+    for (int k = 0; k < 256; ++k) {
+      Bnd_Box2d box;
+      BndLib_Add2dCurve::Add(pc, f + (l - f) * k / 256, f + (l - f) * (k + 1) / 256, 0.0, box);
+      if (box.IsVoid()) continue;
+      double a0, b0, a1, b1;
+      box.Get(a0, b0, a1, b1);
+      const double eu = 1e-3 * du, ev = 1e-3 * dv;
+      const int i0 = std::clamp(static_cast<int>(std::floor((a0 - eu - job.u0) / du)), 0, nu - 1);
+      const int i1 = std::clamp(static_cast<int>(std::floor((a1 + eu - job.u0) / du)), 0, nu - 1);
+      const int j0 = std::clamp(static_cast<int>(std::floor((b0 - ev - job.v0) / dv)), 0, nv - 1);
+      const int j1 = std::clamp(static_cast<int>(std::floor((b1 + ev - job.v0) / dv)), 0, nv - 1);
+      for (int i = i0; i <= i1; ++i)
+        for (int j = j0; j <= j1; ++j) job.boundary[static_cast<std::size_t>(i * nv + j)] = 1;
+    }
+  }
+}
 
 constexpr int kMaxPerCellSide = 4000;
 
@@ -64,12 +102,31 @@ void sample_cell(const FaceJob& job, GeomAdaptor_Surface& surf, const Handle(Geo
   const int nu = std::clamp(static_cast<int>(std::ceil(1.3 * mu * du / spacing)), 1, kMaxPerCellSide);
   const int nv = std::clamp(static_cast<int>(std::ceil(1.3 * mv * dv / spacing)), 1, kMaxPerCellSide);
   const bool flip = job.face.Orientation() == TopAbs_REVERSED;
+  // Per sub-cell: 1 boundary (classify each point), else its centre's answer.
+  const int snv = job.cv * kSub;
+  signed char state[kSub][kSub];
+  for (int a = 0; a < kSub; ++a)
+    for (int b = 0; b < kSub; ++b) {
+      const int gi = i * kSub + a, gj = j * kSub + b;
+      if (job.boundary[static_cast<std::size_t>(gi * snv + gj)]) {
+        state[a][b] = 1;
+        continue;
+      }
+      const TopAbs_State st =
+          inside.Perform(gp_Pnt2d(a0 + du * (a + 0.5) / kSub, b0 + dv * (b + 0.5) / kSub));
+      state[a][b] = st == TopAbs_IN || st == TopAbs_ON ? 2 : 0;
+    }
   for (int a = 0; a < nu; ++a) {
     const double u = a0 + du * (a + 0.5) / nu;
     for (int b = 0; b < nv; ++b) {
       const double v = b0 + dv * (b + 0.5) / nv;
-      const TopAbs_State st = inside.Perform(gp_Pnt2d(u, v));
-      if (st != TopAbs_IN && st != TopAbs_ON) continue;
+      const int sa = std::min(kSub - 1, (2 * a + 1) * kSub / (2 * nu));
+      const int sb = std::min(kSub - 1, (2 * b + 1) * kSub / (2 * nv));
+      if (state[sa][sb] == 0) continue;
+      if (state[sa][sb] == 1) {
+        const TopAbs_State st = inside.Perform(gp_Pnt2d(u, v));
+        if (st != TopAbs_IN && st != TopAbs_ON) continue;
+      }
       gp_Pnt p;
       gp_Vec su, sv;
       surf.D1(u, v, p, su, sv);
@@ -135,6 +192,7 @@ std::vector<Sample> sample_faces(const TopoDS_Shape& shape, const std::vector<in
     }
     job.cu = std::clamp(static_cast<int>(std::ceil(lu / 2.0)), 1, 1000);
     job.cv = std::clamp(static_cast<int>(std::ceil(lv / 2.0)), 1, 1000);
+    mark_boundary_cells(job);
     jobs.push_back(job);
   }
   // Work items: (face, cell row); results kept in order for reproducibility.

@@ -1,0 +1,164 @@
+"""Measuring a posted Job with the independent simulator (tests/sim, the
+isocam_gcode_sim program): shared by the test_*sim*.py files (a helper, not a
+test file).
+
+The simulator shares nothing with the core: it runs LinuxCNC's rs274 on the
+posted G-code, sweeps the ball along its canonical moves and measures the
+material left above, and the overcut below, points sampled on the model's
+faces. The tests assert those measurements against what the op states,
+through stated_bounds() alone.
+"""
+
+import json
+import math
+import os
+import subprocess
+
+import fc_test_support as support
+from freecad_ext import scripting
+
+# The linuxcnc post writes 3 decimals: each coordinate is off by up to
+# 0.0005 mm, the tool position by up to sqrt(3) times that.
+POST_ROUNDING = 0.0005 * math.sqrt(3)
+# The core's clearance check accuracy (IsoParams.gouge_tolerance default).
+GOUGE_TOLERANCE = 0.001
+
+
+def stated_bounds(op):
+    """(most material left, deepest overcut) in mm that `op` states its posted
+    path keeps: the two numbers every simulation test asserts.
+
+    Until the op states both as certificate properties (issue 10), they are
+    read off what it promises today: the scallop height plus the chord sag
+    left on the material side, and the chord sag plus the clearance check's
+    tolerance below the design; each with the post's rounding."""
+    chord = op.ChordTolerance.Value
+    left = op.ScallopHeight.Value + chord + POST_ROUNDING
+    overcut = chord + GOUGE_TOLERANCE + POST_ROUNDING
+    return left, overcut
+
+
+def simulator_or_fail(testcase):
+    build = os.environ.get("ISOCAM_BUILD_DIR") or os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "..", "..", "build"
+    )
+    path = os.path.join(build, "tests", "sim", "isocam_gcode_sim")
+    if not os.access(path, os.X_OK):
+        testcase.fail("simulator not built: %s (cmake --build the tree)" % path)
+    return path
+
+
+def picked_faces(op):
+    """FreeCAD's face numbers (1-based) of the op's Base."""
+    numbers = []
+    for _obj, subs in op.Base:
+        numbers += [int(s[4:]) for s in subs if s.startswith("Face")]
+    return numbers
+
+
+# Sample spacing on the design (mm). The residual has a kink at each cusp, so
+# a measured cusp may be low by up to its slope times spacing / 2: 0.0015 mm
+# for a 0.4 mm stepover of a 4 mm ball.
+SPACING = 0.03
+
+
+def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=()):
+    """Post `job`, simulate it on the Job's model and return the simulator's
+    JSON summary (a dict); the G-code, B-rep and a residual map stay in a
+    temporary folder for the length of the test."""
+    rs274 = support.rs274_or_fail(testcase)
+    sim = simulator_or_fail(testcase)
+    # ISOCAM_SIM_KEEP=<folder>: keep the G-code, model and map there to look at.
+    keep = os.environ.get("ISOCAM_SIM_KEEP")
+    if keep:
+        tmp = os.path.join(keep, testcase.id().split(".")[-1])
+        os.makedirs(tmp, exist_ok=True)
+    else:
+        tmp = support.temp_dir(testcase)
+    ngc = os.path.join(tmp, "job.ngc")
+    scripting.post_job(job, ngc)
+    brep = os.path.join(tmp, "model.brep")
+    job.Model.Group[0].Shape.exportBrep(brep)
+    table = os.path.join(tmp, "tool.tbl")
+    with open(table, "w") as out:
+        tc = op.ToolController
+        out.write("T%d P%d D%.4f Z+0.0000 ;\n" % (tc.ToolNumber, tc.ToolNumber, tool_diameter))
+    cmd = [
+        sim,
+        "--brep", brep,
+        "--faces", ",".join(str(f) for f in picked_faces(op)),
+        "--radius", repr(tool_diameter / 2),
+        "--gcode", ngc,
+        "--rs274", rs274,
+        "--tool-table", table,
+        "--spacing", repr(spacing),
+        "--scallop", repr(op.ScallopHeight.Value),
+        "--map", os.path.join(tmp, "residual.txt"),
+        "--threads", "2",
+    ] + list(extra)
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    testcase.assertEqual(proc.returncode, 0, proc.stderr)
+    return json.loads(proc.stdout)
+
+
+def describe(name, op, result):
+    """One line for the test log: measured against stated."""
+    left_bound, overcut_bound = stated_bounds(op)
+    return (
+        "%s: left %.5f (stated %.5f) at %s face %d, overcut %.5f (stated %.5f) at %s "
+        "face %d, rapid overcut %.5f, reachable %.3f, within ScallopHeight %.4f, "
+        "%d samples, %d moves"
+        % (
+            name,
+            result["left"]["max"],
+            left_bound,
+            result["left"]["at"],
+            result["left"]["face"],
+            result["overcut"]["max"],
+            overcut_bound,
+            result["overcut"]["at"],
+            result["overcut"]["face"],
+            result["rapid_overcut"]["max"],
+            result["reachable_fraction"],
+            result["coverage"],
+            result["picked_samples"],
+            result["moves"]["total"],
+        )
+    )
+
+
+def check_measured(testcase, name, op, result, min_reachable=0.5):
+    """The measurement saw the part: enough samples and reachable area, and
+    every reachable point near the path (none left uncovered)."""
+    print(describe(name, op, result))
+    testcase.assertGreater(result["picked_samples"], 10000, name)
+    testcase.assertGreater(result["reachable_fraction"], min_reachable, name)
+    testcase.assertEqual(result["uncovered_samples"], 0, name)
+    # The cutting length the machine runs, as the sim measured it, is the op's.
+    testcase.assertAlmostEqual(
+        result["lengths"]["cutting"],
+        op.CuttingLength.Value,
+        delta=1e-3 * op.CuttingLength.Value + 1,
+    )
+
+
+def assert_left_within_stated(testcase, name, op, result):
+    testcase.assertLessEqual(
+        result["left"]["max"], stated_bounds(op)[0], describe(name, op, result)
+    )
+
+
+def assert_overcut_within_stated(testcase, name, op, result):
+    """Overcut by any move within the bound, and no rapid cutting at all."""
+    testcase.assertLessEqual(
+        result["overcut"]["max"], stated_bounds(op)[1], describe(name, op, result)
+    )
+    testcase.assertEqual(result["rapid_overcut"]["max"], 0.0, describe(name, op, result))
+
+
+def assert_within_stated(testcase, name, op, result, min_reachable=0.5):
+    """The op's promise, measured: material left and overcut within
+    stated_bounds(op), no rapid cutting, on a measurement that saw the part."""
+    check_measured(testcase, name, op, result, min_reachable)
+    assert_left_within_stated(testcase, name, op, result)
+    assert_overcut_within_stated(testcase, name, op, result)

@@ -1,0 +1,145 @@
+"""The op's promise measured from outside (issue 10, habit 15) on the bundled
+models: a 20 x 20 mm piece of the MAT terrain, Ball (17 analytic and B-spline
+faces, a cavity and a bore) and shell1 (99 trimmed B-spline faces). Each
+Adaptive Isocurve job is posted with FreeCAD's linuxcnc post, read back by
+rs274 and simulated by tests/sim's isocam_gcode_sim; the measured material
+left and overcut must stay within sim_support.stated_bounds(op).
+
+Ball and shell1 break the bounds today (expectedFailure, with the numbers
+measured on main 14a6e77): both have faces under overhangs (Ball's sphere
+below its equator, shell1's undersides) that the op finishes from below, and
+the vertical plunges and retracts there go through the part above, with the
+ball's centre almost on the surface (overcut ~ r). When the op is fixed these
+tests report an unexpected success: drop the marker then.
+
+Run: tests/freecad/run_in_freecad.sh tests/freecad/test_gcode_sim_bundled.py
+"""
+
+import unittest
+
+import FreeCAD
+
+import fc_test_support as support
+import sim_support
+from freecad_ext import adaptive_isocurve, scripting
+
+
+def mat_piece():
+    """MAT's B-spline cut to the parameter square [0.35, 0.6]^2 of its range
+    (about 20 x 20 mm of ridges and valleys)."""
+    surf = support.load_shape("MAT.brep").Faces[0].Surface.copy()
+    u0, u1, v0, v1 = surf.bounds()
+    surf.segment(
+        u0 + 0.35 * (u1 - u0),
+        u0 + 0.6 * (u1 - u0),
+        v0 + 0.35 * (v1 - v0),
+        v0 + 0.6 * (v1 - v0),
+    )
+    return surf.toShape()
+
+
+class _Measured(unittest.TestCase):
+    """One model, one Adaptive Isocurve job on all its faces, posted and
+    simulated once for the class; each test checks one promise."""
+
+    NAME = SHAPE = None
+    BALL_DIAMETER = SCALLOP = SPACING = None
+
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = FreeCAD.newDocument(cls.NAME)
+        model = cls.doc.addObject("Part::Feature", "Model")
+        model.Shape = cls.SHAPE()
+        cls.job = scripting.make_job(model)
+        tc = scripting.make_ball_end_tool_controller(cls.job, cls.BALL_DIAMETER)
+        cls.op = adaptive_isocurve.Create(
+            adaptive_isocurve.OP_NAME, parentJob=cls.job, toolController=tc
+        )
+        clone = cls.job.Model.Group[0]
+        cls.op.Base = [(clone, ["Face%d" % (i + 1) for i in range(len(clone.Shape.Faces))])]
+        cls.op.ScallopHeight = cls.SCALLOP
+        cls.doc.recompute()
+        cls.result = None
+
+    @classmethod
+    def tearDownClass(cls):
+        FreeCAD.closeDocument(cls.doc.Name)
+
+    def measured(self):
+        if self.__class__.result is None:
+            self.assertNotIn("Invalid", self.op.State, self.op.getStatusString())
+            self.__class__.result = sim_support.measure(
+                self, self.job, self.op, self.BALL_DIAMETER, spacing=self.SPACING
+            )
+            print(sim_support.describe(self.NAME, self.op, self.__class__.result))
+        return self.__class__.result
+
+    def check_measured(self):
+        sim_support.check_measured(self, self.NAME, self.op, self.measured())
+
+    def check_left(self):
+        sim_support.assert_left_within_stated(self, self.NAME, self.op, self.measured())
+
+    def check_overcut(self):
+        sim_support.assert_overcut_within_stated(self, self.NAME, self.op, self.measured())
+
+
+class MatPieceTest(_Measured):
+    NAME, SHAPE = "MATPiece", staticmethod(mat_piece)
+    BALL_DIAMETER, SCALLOP, SPACING = 6.0, 0.01, 0.03
+
+    def test_measured(self):
+        self.check_measured()
+
+    def test_left_within_stated(self):
+        self.check_left()
+
+    def test_overcut_within_stated(self):
+        self.check_overcut()
+
+
+class BallTest(_Measured):
+    NAME, SHAPE = "Ball", staticmethod(lambda: support.load_shape("Ball.brep"))
+    BALL_DIAMETER, SCALLOP, SPACING = 2.0, 0.05, 0.05
+
+    def test_measured(self):
+        self.check_measured()
+
+    @unittest.expectedFailure
+    def test_left_within_stated(self):
+        # Measured 0.0926 mm (stated 0.0609) at (-6.69, -7.13, 6.13) on Face10,
+        # the sphere's underside.
+        self.check_left()
+
+    @unittest.expectedFailure
+    def test_overcut_within_stated(self):
+        # Measured 0.996 mm (stated 0.0119) at (0.96, 10.09, 19.33) on Face10:
+        # the retract from a pass under the sphere (tip z 3.945) goes up
+        # through its top.
+        self.check_overcut()
+
+
+class Shell1Test(_Measured):
+    NAME, SHAPE = "Shell1", staticmethod(lambda: support.load_shape("shell1.brep"))
+    BALL_DIAMETER, SCALLOP, SPACING = 4.0, 0.01, 0.04
+
+    def test_measured(self):
+        self.check_measured()
+
+    @unittest.expectedFailure
+    def test_left_within_stated(self):
+        # Measured 0.0288 mm (stated 0.0209) at (90.99, 4.98, 3.30) on Face62,
+        # reachable even by a ball 0.05 mm larger.
+        self.check_left()
+
+    @unittest.expectedFailure
+    def test_overcut_within_stated(self):
+        # Measured 1.996 mm (stated 0.0119) on Face80/Face99/Face17: vertical
+        # plunges and retracts of passes under overhangs go through the part.
+        self.check_overcut()
+
+
+del _Measured  # the base holds no test of its own
+
+if __name__ == "__main__":
+    unittest.main()
