@@ -1,8 +1,11 @@
 // The program as LinuxCNC's interpreter reads it: its canonical calls.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <istream>
 #include <sstream>
 #include <stdexcept>
@@ -246,9 +249,17 @@ std::string run_rs274(const std::string& rs274, const std::string& gcode_file,
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
     return q + "'";
   };
+  if (!std::ifstream(gcode_file)) throw std::runtime_error("cannot open G-code file " + gcode_file);
+  if (!tool_table.empty() && !std::ifstream(tool_table))
+    throw std::runtime_error("cannot open tool table " + tool_table);
+  // rs274 writes the canonical calls to stdout and its errors to stderr.
+  char err_name[] = "/tmp/isocam_gcode_sim.XXXXXX";
+  const int fd = mkstemp(err_name);
+  if (fd < 0) throw std::runtime_error("cannot make a temporary file for rs274's messages");
+  close(fd);
   std::string cmd = quote(rs274);
   if (!tool_table.empty()) cmd += " -t " + quote(tool_table);
-  cmd += " -g " + quote(gcode_file) + " </dev/null 2>&1";
+  cmd += " -g " + quote(gcode_file) + " </dev/null 2>" + quote(err_name);
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) throw std::runtime_error("cannot run " + rs274);
   std::string out;
@@ -256,12 +267,17 @@ std::string run_rs274(const std::string& rs274, const std::string& gcode_file,
   std::size_t got;
   while ((got = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, got);
   const int status = pclose(pipe);
-  if (status != 0) {
-    // rs274 mixes its messages into the canonical output: show the end.
-    const std::string tail = out.size() > 600 ? out.substr(out.size() - 600) : out;
-    throw std::runtime_error("rs274 failed on " + gcode_file + " (status " +
+  std::string messages;
+  {
+    std::ifstream err(err_name);
+    for (std::string text; std::getline(err, text);)
+      if (text != "executing" && !text.empty()) messages += text + "\n";
+  }
+  std::remove(err_name);
+  if (status != 0 || !messages.empty()) {
+    throw std::runtime_error("rs274 failed on " + gcode_file + " (exit status " +
                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                             "):\n" + tail);
+                             "):\n" + (messages.size() > 2000 ? messages.substr(0, 2000) : messages));
   }
   return out;
 }

@@ -111,6 +111,10 @@ int run(int argc, char** argv) {
     if (shape.IsNull()) throw std::runtime_error("no shape in B-rep file " + a["--brep"]);
   }
   const int face_count = static_cast<int>(gsim::faces_of(shape).size());
+  for (int f : picked)
+    if (f > face_count)
+      throw std::runtime_error("--faces: face " + std::to_string(f) + " does not exist: " +
+                               a["--brep"] + " has " + std::to_string(face_count) + " faces");
 
   std::string canon;
   if (a.count("--gcode")) {
