@@ -57,17 +57,23 @@ enum class Plane { XY, XZ, YZ };
 // XZ -> (z, x, y), YZ -> (y, z, x).
 Vec3 to_plane(Plane p, const Vec3& v) {
   switch (p) {
-    case Plane::XY: return {v.x, v.y, v.z};
-    case Plane::XZ: return {v.z, v.x, v.y};
-    case Plane::YZ: return {v.y, v.z, v.x};
+    case Plane::XY:
+      return {v.x, v.y, v.z};
+    case Plane::XZ:
+      return {v.z, v.x, v.y};
+    case Plane::YZ:
+      return {v.y, v.z, v.x};
   }
   return v;
 }
 Vec3 from_plane(Plane p, const Vec3& f) {
   switch (p) {
-    case Plane::XY: return {f.x, f.y, f.z};
-    case Plane::XZ: return {f.y, f.z, f.x};
-    case Plane::YZ: return {f.z, f.x, f.y};
+    case Plane::XY:
+      return {f.x, f.y, f.z};
+    case Plane::XZ:
+      return {f.y, f.z, f.x};
+    case Plane::YZ:
+      return {f.z, f.x, f.y};
   }
   return f;
 }
@@ -195,10 +201,14 @@ struct Parser {
       if (a.size() != 1) fail(line, "SET_FEED_RATE needs one number");
       feed = a[0];
     } else if ((open = call("SELECT_PLANE")) != std::string::npos) {
-      if (text.find("CANON_PLANE_XY", open) != std::string::npos) plane = Plane::XY;
-      else if (text.find("CANON_PLANE_XZ", open) != std::string::npos) plane = Plane::XZ;
-      else if (text.find("CANON_PLANE_YZ", open) != std::string::npos) plane = Plane::YZ;
-      else fail(line, "plane not supported: " + text);
+      if (text.find("CANON_PLANE_XY", open) != std::string::npos)
+        plane = Plane::XY;
+      else if (text.find("CANON_PLANE_XZ", open) != std::string::npos)
+        plane = Plane::XZ;
+      else if (text.find("CANON_PLANE_YZ", open) != std::string::npos)
+        plane = Plane::YZ;
+      else
+        fail(line, "plane not supported: " + text);
     } else if ((open = call("USE_LENGTH_UNITS")) != std::string::npos) {
       if (text.find("CANON_UNITS_MM", open) == std::string::npos)
         fail(line, "only millimetre programs are supported");
@@ -211,7 +221,8 @@ struct Parser {
     } else if ((open = call("SET_FEED_MODE")) != std::string::npos) {
       const std::vector<double> a = arguments(text, open, line);
       if (a.size() == 2 && a[1] != 0) fail(line, "only units-per-minute feed is supported");
-    } else if (call("NURBS_FEED") != std::string::npos || call("STRAIGHT_PROBE") != std::string::npos ||
+    } else if (call("NURBS_FEED") != std::string::npos ||
+               call("STRAIGHT_PROBE") != std::string::npos ||
                call("RIGID_TAP") != std::string::npos) {
       fail(line, "move not supported: " + text);
     }
@@ -276,8 +287,8 @@ std::string run_rs274(const std::string& rs274, const std::string& gcode_file,
   std::remove(err_name);
   if (status != 0 || !messages.empty()) {
     throw std::runtime_error("rs274 failed on " + gcode_file + " (exit status " +
-                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                             "):\n" + (messages.size() > 2000 ? messages.substr(0, 2000) : messages));
+                             std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "):\n" +
+                             (messages.size() > 2000 ? messages.substr(0, 2000) : messages));
   }
   return out;
 }

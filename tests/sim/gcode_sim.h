@@ -11,13 +11,12 @@
 // is used, for reading the B-rep and evaluating its faces.
 #pragma once
 
+#include <TopoDS_Shape.hxx>
 #include <array>
 #include <cstddef>
 #include <iosfwd>
 #include <string>
 #include <vector>
-
-#include <TopoDS_Shape.hxx>
 
 namespace gsim {
 
@@ -123,11 +122,10 @@ Result measure(const std::vector<Sample>& samples, const Program& program, const
 // the deepest overcut if there is one, else the most material left on a
 // reachable point; cells with only unreachable points are written as nan.
 // Lines "x y value" after a header line.
-void write_map(std::ostream& out, const std::vector<Sample>& samples, const Result& r,
-               double step);
+void write_map(std::ostream& out, const std::vector<Sample>& samples, const Result& r, double step);
 
 void write_json(std::ostream& out, const std::vector<Sample>& samples, const Program& program,
-                const Options& o, const Result& r, double spacing,
-                const std::vector<int>& picked, int face_count);
+                const Options& o, const Result& r, double spacing, const std::vector<int>& picked,
+                int face_count);
 
 }  // namespace gsim

@@ -1,5 +1,8 @@
 // isocam_gcode_sim: measures what a posted ball-end program really cuts.
 // See gcode_sim.h for what is measured; `isocam_gcode_sim --help` for usage.
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <Standard_Failure.hxx>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -9,10 +12,6 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
-#include <Standard_Failure.hxx>
 
 #include "gcode_sim.h"
 
@@ -74,11 +73,10 @@ int run(int argc, char** argv) {
       throw std::runtime_error("bad argument '" + key + "' (each option takes a value)\n" + kUsage);
     a[key] = argv[++i];
   }
-  static const char* known[] = {"--brep",         "--faces",     "--radius",     "--gcode",
-                                "--rs274",        "--tool-table", "--canon",     "--spacing",
-                                "--threads",      "--scallop",   "--max-residual", "--reach-margin",
-                                "--reach-tol",    "--arc-sag",   "--cell",       "--map",
-                                "--map-step",     "--canon-out"};
+  static const char* known[] = {
+      "--brep",      "--faces",   "--radius",  "--gcode",   "--rs274",        "--tool-table",
+      "--canon",     "--spacing", "--threads", "--scallop", "--max-residual", "--reach-margin",
+      "--reach-tol", "--arc-sag", "--cell",    "--map",     "--map-step",     "--canon-out"};
   for (const auto& [k, v] : a) {
     bool ok = false;
     for (const char* n : known) ok = ok || k == n;
@@ -94,7 +92,8 @@ int run(int argc, char** argv) {
   if (a.count("--threads")) o.threads = static_cast<int>(positive("--threads", a["--threads"]));
   if (a.count("--scallop")) o.scallop = positive("--scallop", a["--scallop"]);
   if (a.count("--max-residual")) o.max_residual = positive("--max-residual", a["--max-residual"]);
-  if (a.count("--reach-margin")) o.reach_margin = positive("--reach-margin", a["--reach-margin"], true);
+  if (a.count("--reach-margin"))
+    o.reach_margin = positive("--reach-margin", a["--reach-margin"], true);
   if (a.count("--reach-tol")) o.reach_tol = positive("--reach-tol", a["--reach-tol"], true);
   if (a.count("--cell")) o.cell = positive("--cell", a["--cell"]);
   const double spacing = a.count("--spacing") ? positive("--spacing", a["--spacing"]) : 0.05;

@@ -38,11 +38,12 @@ std::string extreme(const Extreme& e) {
 }  // namespace
 
 void write_json(std::ostream& out, const std::vector<Sample>& samples, const Program& program,
-                const Options& o, const Result& r, double spacing,
-                const std::vector<int>& picked, int face_count) {
+                const Options& o, const Result& r, double spacing, const std::vector<int>& picked,
+                int face_count) {
   (void)samples;
   std::string faces;
-  for (std::size_t i = 0; i < picked.size(); ++i) faces += (i ? ", " : "") + std::to_string(picked[i]);
+  for (std::size_t i = 0; i < picked.size(); ++i)
+    faces += (i ? ", " : "") + std::to_string(picked[i]);
   const double reach_frac = r.picked_area > 0 ? r.reachable_area / r.picked_area : 0.0;
   out << "{\n"
       << "  \"ball_radius\": " << num(o.ball_radius) << ",\n"
@@ -56,7 +57,8 @@ void write_json(std::ostream& out, const std::vector<Sample>& samples, const Pro
       << "  \"overcut_samples\": " << r.overcut_samples << ",\n"
       << "  \"picked_area\": " << fixed(r.picked_area, 4) << ",\n"
       << "  \"reachable_fraction\": " << fixed(reach_frac, 6) << ",\n"
-      << "  \"unreachable_fraction\": " << fixed(r.picked_area > 0 ? 1 - reach_frac : 0.0, 6) << ",\n"
+      << "  \"unreachable_fraction\": " << fixed(r.picked_area > 0 ? 1 - reach_frac : 0.0, 6)
+      << ",\n"
       << "  \"coverage\": "
       << (o.scallop > 0 && r.reachable_area > 0 ? fixed(r.covered_area / r.reachable_area, 6)
                                                 : std::string("null"))
@@ -71,7 +73,8 @@ void write_json(std::ostream& out, const std::vector<Sample>& samples, const Pro
       << "  \"moves\": {\"total\": " << program.moves.size() << ", \"rapids\": " << program.rapids
       << ", \"feeds\": " << program.feeds << ", \"arcs\": " << program.arcs
       << ", \"segments\": " << program.segments.size() << "},\n"
-      << "  \"lengths\": {\"cutting\": " << fixed(program.feed_length - program.plunge_length + program.arc_length, 3)
+      << "  \"lengths\": {\"cutting\": "
+      << fixed(program.feed_length - program.plunge_length + program.arc_length, 3)
       << ", \"feed\": " << fixed(program.feed_length + program.arc_length, 3)
       << ", \"plunge\": " << fixed(program.plunge_length, 3)
       << ", \"arc\": " << fixed(program.arc_length, 3)
@@ -110,7 +113,8 @@ void write_map(std::ostream& out, const std::vector<Sample>& samples, const Resu
   char buf[128];
   for (const auto& [key, a] : cells) {
     const double v = a.cut < -1e-4 ? a.cut : a.any_reachable ? std::max(0.0, a.left) : NAN;
-    std::snprintf(buf, sizeof buf, "%.4f %.4f %s\n", x0 + (static_cast<double>(key.first) + 0.5) * step,
+    std::snprintf(buf, sizeof buf, "%.4f %.4f %s\n",
+                  x0 + (static_cast<double>(key.first) + 0.5) * step,
                   y0 + (static_cast<double>(key.second) + 0.5) * step,
                   std::isfinite(v) ? fixed(v, 6).c_str() : "nan");
     out << buf;

@@ -1,27 +1,26 @@
 // Dense points on the design surface, inside each face's wires.
-#include <algorithm>
-#include <atomic>
-#include <cmath>
-#include <stdexcept>
-#include <thread>
-
 #include <BRepAdaptor_Curve2d.hxx>
 #include <BRepTools.hxx>
-#include <BndLib_Add2dCurve.hxx>
-#include <Bnd_Box2d.hxx>
-#include <TopExp_Explorer.hxx>
-#include <TopoDS_Edge.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Tool.hxx>
+#include <BndLib_Add2dCurve.hxx>
+#include <Bnd_Box2d.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <GeomLProp_SLProps.hxx>
 #include <Geom_Surface.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <gp_Pnt2d.hxx>
+#include <stdexcept>
+#include <thread>
 
 #include "gcode_sim.h"
 
@@ -83,7 +82,7 @@ void mark_boundary_cells(FaceJob& job) {
 
 constexpr int kMaxPerCellSide = 4000;
 
-void sample_cell(const FaceJob& job, GeomAdaptor_Surface& surf, const Handle(Geom_Surface)& geom,
+void sample_cell(const FaceJob& job, GeomAdaptor_Surface& surf, const Handle(Geom_Surface) & geom,
                  BRepTopAdaptor_FClass2d& inside, int i, int j, double spacing,
                  std::vector<Sample>& out) {
   const double du = (job.u1 - job.u0) / job.cu, dv = (job.v1 - job.v0) / job.cv;
@@ -99,8 +98,10 @@ void sample_cell(const FaceJob& job, GeomAdaptor_Surface& surf, const Handle(Geo
     }
   }
   // 1.3: the speed may peak between the 3 x 3 points seen.
-  const int nu = std::clamp(static_cast<int>(std::ceil(1.3 * mu * du / spacing)), 1, kMaxPerCellSide);
-  const int nv = std::clamp(static_cast<int>(std::ceil(1.3 * mv * dv / spacing)), 1, kMaxPerCellSide);
+  const int nu =
+      std::clamp(static_cast<int>(std::ceil(1.3 * mu * du / spacing)), 1, kMaxPerCellSide);
+  const int nv =
+      std::clamp(static_cast<int>(std::ceil(1.3 * mv * dv / spacing)), 1, kMaxPerCellSide);
   const bool flip = job.face.Orientation() == TopAbs_REVERSED;
   // Per sub-cell: 1 boundary (classify each point), else its centre's answer.
   const int snv = job.cv * kSub;
@@ -173,15 +174,18 @@ std::vector<Sample> sample_faces(const TopoDS_Shape& shape, const std::vector<in
     BRepTools::UVBounds(job.face, job.u0, job.u1, job.v0, job.v1);
     // Cells of about 2 mm, from the lengths of a 9 x 9 net of iso-lines.
     Handle(Geom_Surface) geom = BRep_Tool::Surface(job.face);
-    if (geom.IsNull()) throw std::runtime_error("face " + std::to_string(job.number) + " has no surface");
+    if (geom.IsNull())
+      throw std::runtime_error("face " + std::to_string(job.number) + " has no surface");
     double lu = 0, lv = 0;
     for (int a = 0; a <= 8; ++a) {
       double su = 0, sv = 0;
       gp_Pnt pu0 = geom->Value(job.u0, job.v0 + (job.v1 - job.v0) * a / 8);
       gp_Pnt pv0 = geom->Value(job.u0 + (job.u1 - job.u0) * a / 8, job.v0);
       for (int b = 1; b <= 32; ++b) {
-        gp_Pnt pu = geom->Value(job.u0 + (job.u1 - job.u0) * b / 32, job.v0 + (job.v1 - job.v0) * a / 8);
-        gp_Pnt pv = geom->Value(job.u0 + (job.u1 - job.u0) * a / 8, job.v0 + (job.v1 - job.v0) * b / 32);
+        gp_Pnt pu =
+            geom->Value(job.u0 + (job.u1 - job.u0) * b / 32, job.v0 + (job.v1 - job.v0) * a / 8);
+        gp_Pnt pv =
+            geom->Value(job.u0 + (job.u1 - job.u0) * a / 8, job.v0 + (job.v1 - job.v0) * b / 32);
         su += pu.Distance(pu0);
         sv += pv.Distance(pv0);
         pu0 = pu;
@@ -221,7 +225,8 @@ std::vector<Sample> sample_faces(const TopoDS_Shape& shape, const std::vector<in
           sample_cell(job, surf, geom, *inside, items[k].second, j, spacing, parts[k]);
       }
     } catch (const Standard_Failure& e) {
-      if (!failed.exchange(true)) error = std::string("OpenCASCADE failed while sampling: ") + e.GetMessageString();
+      if (!failed.exchange(true))
+        error = std::string("OpenCASCADE failed while sampling: ") + e.GetMessageString();
     }
   };
   std::vector<std::thread> pool;

@@ -132,8 +132,10 @@ SegmentIndex index_segments(const Program& program, double r, const Box& region,
         for (long j = a[1]; j <= c[1]; ++j)
           for (long q = a[0]; q <= c[0]; ++q) {
             const std::size_t key = static_cast<std::size_t>(ix.grid.key(q, j, k));
-            if (pass == 0) ++ix.start[key + 1];
-            else ix.entries[static_cast<std::size_t>(ix.start[key]++)] = static_cast<int>(i);
+            if (pass == 0)
+              ++ix.start[key + 1];
+            else
+              ix.entries[static_cast<std::size_t>(ix.start[key]++)] = static_cast<int>(i);
           }
     }
     if (pass == 0) {

@@ -1,17 +1,17 @@
 // The simulator on cases whose answer is known in closed form.
-#include <cmath>
-#include <cstdio>
-#include <fstream>
-#include <sstream>
-#include <string>
+#include <gtest/gtest.h>
 
-#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAdaptor_Surface.hxx>
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <TopoDS.hxx>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <gp_Ax2.hxx>
-#include <gtest/gtest.h>
+#include <sstream>
+#include <string>
 
 #include "gcode_sim.h"
 
@@ -25,7 +25,8 @@ constexpr double kR = 3.0;  // ball radius
 
 std::string feed(double x, double y, double z) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "STRAIGHT_FEED(%.4f, %.4f, %.4f, 0.0000, 0.0000, 0.0000)\n", x, y, z);
+  std::snprintf(buf, sizeof buf, "STRAIGHT_FEED(%.4f, %.4f, %.4f, 0.0000, 0.0000, 0.0000)\n", x, y,
+                z);
   return buf;
 }
 std::string rapid(double x, double y, double z) {
@@ -74,7 +75,8 @@ TEST(GcodeSimPlate, StraightPassBelowTheTopCutsExactlyThatDeep) {
   const int top = face_facing(box, 0, 0, 1);
   const auto samples = gsim::sample_faces(box, {top}, 0.02, 2);
   // Tip 0.03 below the top along y = 3: overcut 0.03 on the line y = 3.
-  const Program prog = parse(rapid(-4, 3, 20) + rapid(-4, 3, 4.97) + feed(10, 3, 4.97) + rapid(10, 3, 20));
+  const Program prog =
+      parse(rapid(-4, 3, 20) + rapid(-4, 3, 4.97) + feed(10, 3, 4.97) + rapid(10, 3, 20));
   const Result r = gsim::measure(samples, prog, options());
   EXPECT_NEAR(r.overcut.value, 0.03, 2e-4);
   EXPECT_NEAR(r.overcut.at.y, 3.0, 0.02);
@@ -123,7 +125,8 @@ TEST(GcodeSimPlate, RapidThroughThePartIsAnOvercutOfItsOwn) {
   const int top = face_facing(box, 0, 0, 1);
   const auto samples = gsim::sample_faces(box, {top}, 0.05, 2);
   // A rapid 0.5 below the top across the plate.
-  const Program prog = parse(rapid(-4, 2, 20) + rapid(-4, 2, 4.5) + rapid(10, 2, 4.5) + rapid(10, 2, 20));
+  const Program prog =
+      parse(rapid(-4, 2, 20) + rapid(-4, 2, 4.5) + rapid(10, 2, 4.5) + rapid(10, 2, 20));
   const Result r = gsim::measure(samples, prog, options());
   EXPECT_NEAR(r.rapid_overcut.value, 0.5, 2e-3);
   EXPECT_NEAR(r.overcut.value, 0.5, 2e-3);
@@ -137,7 +140,8 @@ TEST(GcodeSimPlate, OvercutOnAnUnpickedFaceCounts) {
   const auto samples = gsim::sample_faces(box, {top}, 0.02, 2);
   // Pass down the side x = 6, the ball 0.02 into it.
   const double xc = 6 + kR - 0.02;
-  const Program prog = parse(rapid(xc, 3, 20) + rapid(xc, 3, 3) + feed(xc, 3, -1) + rapid(xc, 3, 20));
+  const Program prog =
+      parse(rapid(xc, 3, 20) + rapid(xc, 3, 3) + feed(xc, 3, -1) + rapid(xc, 3, 20));
   const Result r = gsim::measure(samples, prog, options());
   EXPECT_NEAR(r.overcut.value, 0.02, 2e-4);
   EXPECT_EQ(r.overcut.face, side);
@@ -147,7 +151,8 @@ TEST(GcodeSimPlate, OvercutOnAnUnpickedFaceCounts) {
 // and a full circle around it (an arc move), both 0.01 into the material.
 TEST(GcodeSimCylinder, StraightPassAndFullCircleArc) {
   const double rc = 10.0;
-  const TopoDS_Shape cyl = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), rc, 10.0).Shape();
+  const TopoDS_Shape cyl =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), rc, 10.0).Shape();
   int side = 0;
   const auto faces = gsim::faces_of(cyl);
   for (std::size_t i = 0; i < faces.size(); ++i)
@@ -157,7 +162,10 @@ TEST(GcodeSimCylinder, StraightPassAndFullCircleArc) {
   const auto samples = gsim::sample_faces(cyl, {side}, 0.04, 2);
 
   // Straight: tip at z = rc - 0.01 (ball centre rc + r - 0.01).
-  Result r = gsim::measure(samples, parse(rapid(-5, 0, 30) + rapid(-5, 0, rc - 0.01) + feed(15, 0, rc - 0.01) + rapid(15, 0, 30)), options());
+  Result r = gsim::measure(
+      samples,
+      parse(rapid(-5, 0, 30) + rapid(-5, 0, rc - 0.01) + feed(15, 0, rc - 0.01) + rapid(15, 0, 30)),
+      options());
   EXPECT_NEAR(r.overcut.value, 0.01, 1e-4);
   EXPECT_NEAR(r.overcut.at.z, rc, 1e-3);
   EXPECT_EQ(r.overcut.face, side);
@@ -167,9 +175,10 @@ TEST(GcodeSimCylinder, StraightPassAndFullCircleArc) {
   // Written as G-code and read back through rs274 itself.
   const double rho = rc + kR - 0.01;
   char ngc[512];
-  std::snprintf(ngc, sizeof ngc,
-                "G21 G90 G17\nG0 X5 Y0 Z%.4f\nG1 Z%.4f F600\nG19 G3 Y0 Z%.4f J0 K%.4f\nG17\nG0 Z40\nM2\n",
-                40.0, rho - kR, rho - kR, -rho);
+  std::snprintf(
+      ngc, sizeof ngc,
+      "G21 G90 G17\nG0 X5 Y0 Z%.4f\nG1 Z%.4f F600\nG19 G3 Y0 Z%.4f J0 K%.4f\nG17\nG0 Z40\nM2\n",
+      40.0, rho - kR, rho - kR, -rho);
   const std::string file = ::testing::TempDir() + "gsim_arc.ngc";
   {
     std::ofstream out(file);
@@ -236,14 +245,18 @@ TEST(GcodeSimCanon, ArcTurnsAndDirections) {
   // XY arc from (10,0) around (0,0): counterclockwise to (0,10) is a quarter,
   // clockwise a three-quarter turn; rotation 2 adds a full circle.
   const std::string start = rapid(10, 0, 0);
-  Program p = parse(start + "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)\n");
+  Program p = parse(
+      start + "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)\n");
   EXPECT_NEAR(p.arc_length, M_PI * 10 / 2, 1e-9);
-  p = parse(start + "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)\n");
+  p = parse(start +
+            "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)\n");
   EXPECT_NEAR(p.arc_length, 3 * M_PI * 10 / 2, 1e-9);
-  p = parse(start + "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 2, 0.0000, 0.0000, 0.0000, 0.0000)\n");
+  p = parse(start +
+            "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, 2, 0.0000, 0.0000, 0.0000, 0.0000)\n");
   EXPECT_NEAR(p.arc_length, 5 * M_PI * 10 / 2, 1e-9);
   // The pieces stay on the circle (clockwise: through (0,-10)).
-  p = parse(start + "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)\n");
+  p = parse(start +
+            "ARC_FEED(0.0000, 10.0000, 0.0000, 0.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)\n");
   double ymin = 0;
   for (const auto& s : p.segments) {
     ymin = std::min(ymin, s.b.y);
