@@ -62,10 +62,11 @@ def picked_faces(op):
 SPACING = 0.03
 
 
-def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=()):
+def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=(), edit=None):
     """Post `job`, simulate it on the Job's model and return the simulator's
     JSON summary (a dict); the G-code, B-rep and a residual map stay in a
-    temporary folder for the length of the test."""
+    temporary folder for the length of the test. `edit`, if given, maps the
+    posted G-code text to the text simulated (to check the check)."""
     rs274 = support.rs274_or_fail(testcase)
     sim = simulator_or_fail(testcase)
     # ISOCAM_SIM_KEEP=<folder>: keep the G-code, model and map there to look at.
@@ -76,7 +77,10 @@ def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=()):
     else:
         tmp = support.temp_dir(testcase)
     ngc = os.path.join(tmp, "job.ngc")
-    scripting.post_job(job, ngc)
+    gcode = scripting.post_job(job, ngc)
+    if edit is not None:
+        with open(ngc, "w") as out:
+            out.write(edit(gcode))
     brep = os.path.join(tmp, "model.brep")
     job.Model.Group[0].Shape.exportBrep(brep)
     table = os.path.join(tmp, "tool.tbl")
@@ -99,6 +103,19 @@ def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=()):
     proc = subprocess.run(cmd, capture_output=True, text=True)
     testcase.assertEqual(proc.returncode, 0, proc.stderr)
     return json.loads(proc.stdout)
+
+
+def shift_feeds_z(gcode, dz):
+    """The G-code with every G1's Z moved by dz (mm): a program that cuts
+    dz too deep (dz < 0) or leaves dz more (dz > 0) everywhere."""
+    import re
+
+    def shift(line):
+        if not line.startswith("G1 "):
+            return line
+        return re.sub(r"Z(-?[0-9.]+)", lambda m: "Z%.3f" % (float(m.group(1)) + dz), line)
+
+    return "\n".join(shift(line) for line in gcode.splitlines()) + "\n"
 
 
 def describe(name, op, result):

@@ -100,6 +100,28 @@ class BuiltModelsTest(unittest.TestCase):
         sim_support.assert_within_stated(self, name, op, result, min_reachable)
         return result
 
+    def test_the_check_sees_a_program_off_by_a_little(self):
+        # The same chain on the dome's program with every feed 0.03 mm too
+        # deep, then 0.03 mm too high: the measurement must follow.
+        built = Built("DomeShifted", dome(), 6.0)
+        self.addCleanup(built.close)
+        faces = faces_where(built.clone.Shape, lambda f: f.Surface.TypeId == "Part::GeomSphere")
+        op = built.op(faces, 0.01)
+        deep = sim_support.measure(
+            self, built.job, op, 6.0, spacing=0.05,
+            edit=lambda g: sim_support.shift_feeds_z(g, -0.03),
+        )
+        print(sim_support.describe("Dome 0.03 deep", op, deep))
+        self.assertGreater(deep["overcut"]["max"], 0.03)
+        self.assertLess(deep["overcut"]["max"], 0.03 + sim_support.stated_bounds(op)[1])
+        high = sim_support.measure(
+            self, built.job, op, 6.0, spacing=0.05,
+            edit=lambda g: sim_support.shift_feeds_z(g, 0.03),
+        )
+        print(sim_support.describe("Dome 0.03 high", op, high))
+        self.assertGreater(high["left"]["max"], 0.03)
+        self.assertLess(high["overcut"]["max"], 0.001)
+
     def test_dome(self):
         self.run_case(
             "Dome", dome(), 6.0, 0.01, lambda f: f.Surface.TypeId == "Part::GeomSphere"
