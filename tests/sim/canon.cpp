@@ -264,13 +264,17 @@ std::string run_rs274(const std::string& rs274, const std::string& gcode_file,
   if (!tool_table.empty() && !std::ifstream(tool_table))
     throw std::runtime_error("cannot open tool table " + tool_table);
   // rs274 writes the canonical calls to stdout and its errors to stderr.
-  char err_name[] = "/tmp/isocam_gcode_sim.XXXXXX";
-  const int fd = mkstemp(err_name);
+  const char* tmpdir = std::getenv("TMPDIR");
+  std::string err_path =
+      std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/isocam_gcode_sim.XXXXXX";
+  std::vector<char> err_name(err_path.begin(), err_path.end());
+  err_name.push_back('\0');
+  const int fd = mkstemp(err_name.data());
   if (fd < 0) throw std::runtime_error("cannot make a temporary file for rs274's messages");
   close(fd);
   std::string cmd = quote(rs274);
   if (!tool_table.empty()) cmd += " -t " + quote(tool_table);
-  cmd += " -g " + quote(gcode_file) + " </dev/null 2>" + quote(err_name);
+  cmd += " -g " + quote(gcode_file) + " </dev/null 2>" + quote(err_name.data());
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) throw std::runtime_error("cannot run " + rs274);
   std::string out;
@@ -280,11 +284,11 @@ std::string run_rs274(const std::string& rs274, const std::string& gcode_file,
   const int status = pclose(pipe);
   std::string messages;
   {
-    std::ifstream err(err_name);
+    std::ifstream err(err_name.data());
     for (std::string text; std::getline(err, text);)
       if (text != "executing" && !text.empty()) messages += text + "\n";
   }
-  std::remove(err_name);
+  std::remove(err_name.data());
   if (status != 0 || !messages.empty()) {
     throw std::runtime_error("rs274 failed on " + gcode_file + " (exit status " +
                              std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "):\n" +
