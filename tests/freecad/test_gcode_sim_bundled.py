@@ -15,6 +15,8 @@ tests report an unexpected success: drop the marker then.
 Run: tests/freecad/run_in_freecad.sh tests/freecad/test_gcode_sim_bundled.py
 """
 
+import json
+import os
 import unittest
 
 import FreeCAD
@@ -137,6 +139,43 @@ class Shell1Test(_Measured):
         # Measured 1.996 mm (stated 0.0119) on Face80/Face99/Face17: vertical
         # plunges and retracts of passes under overhangs go through the part.
         self.check_overcut()
+
+
+class FaceNumberingTest(unittest.TestCase):
+    """The simulator numbers faces as FreeCAD does (FaceN) and samples each
+    inside its wires: its sampled area of face N is FreeCAD's Faces[N-1].Area."""
+
+    def check(self, filename, spacing):
+        import subprocess
+
+        shape = support.load_shape(filename)
+        tmp = support.temp_dir(self)
+        canon = os.path.join(tmp, "one_move.txt")
+        with open(canon, "w") as out:
+            out.write("STRAIGHT_TRAVERSE(0.0000, 0.0000, 500.0000, 0.0000, 0.0000, 0.0000)\n")
+        proc = subprocess.run(
+            [
+                sim_support.simulator_or_fail(self),
+                "--brep", os.path.join(support.DATA_DIR, filename),
+                "--faces", "1", "--radius", "1", "--canon", canon,
+                "--spacing", repr(spacing),
+            ],
+            capture_output=True,
+            text=True,
+        )
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        areas = json.loads(proc.stdout)["face_areas"]
+        self.assertEqual(len(areas), len(shape.Faces))
+        for i, (got, face) in enumerate(zip(areas, shape.Faces)):
+            self.assertAlmostEqual(
+                got, face.Area, delta=0.02 * face.Area + 0.1, msg="%s Face%d" % (filename, i + 1)
+            )
+
+    def test_ball(self):
+        self.check("Ball.brep", 0.1)
+
+    def test_shell1(self):
+        self.check("shell1.brep", 0.05)
 
 
 del _Measured  # the base holds no test of its own

@@ -40,7 +40,13 @@ std::string extreme(const Extreme& e) {
 void write_json(std::ostream& out, const std::vector<Sample>& samples, const Program& program,
                 const Options& o, const Result& r, double spacing, const std::vector<int>& picked,
                 int face_count) {
-  (void)samples;
+  // The sampled area of each face (its points' shares): shows that the
+  // numbering and the wires are read as FreeCAD reads them.
+  std::vector<double> area(static_cast<std::size_t>(face_count), 0.0);
+  for (const Sample& s : samples)
+    if (s.face >= 1 && s.face <= face_count) area[static_cast<std::size_t>(s.face - 1)] += s.area;
+  std::string areas;
+  for (std::size_t i = 0; i < area.size(); ++i) areas += (i ? ", " : "") + fixed(area[i], 4);
   std::string faces;
   for (std::size_t i = 0; i < picked.size(); ++i)
     faces += (i ? ", " : "") + std::to_string(picked[i]);
@@ -56,6 +62,7 @@ void write_json(std::ostream& out, const std::vector<Sample>& samples, const Pro
       << "  \"uncovered_samples\": " << r.uncovered_samples << ",\n"
       << "  \"overcut_samples\": " << r.overcut_samples << ",\n"
       << "  \"picked_area\": " << fixed(r.picked_area, 4) << ",\n"
+      << "  \"face_areas\": [" << areas << "],\n"
       << "  \"reachable_fraction\": " << fixed(reach_frac, 6) << ",\n"
       << "  \"unreachable_fraction\": " << fixed(r.picked_area > 0 ? 1 - reach_frac : 0.0, 6)
       << ",\n"
