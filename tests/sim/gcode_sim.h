@@ -89,11 +89,12 @@ std::vector<Sample> sample_faces(const TopoDS_Shape& shape, const std::vector<in
 
 struct Options {
   double ball_radius = 3.0;
-  double max_residual = 0.5;  // d is measured up to this; above it counts as "not covered"
-  double reach_margin = 0.0;  // reachable: a ball of r + margin touching p is clear
-  double reach_tol = 1e-4;    // ... i.e. no model point closer than r + margin - tol
-  double scallop = -1.0;      // if > 0: coverage = reachable fraction with d <= scallop
-  double cell = 0.5;          // fine cell of the sample grid (mm)
+  double rapid_rate = 5000.0;  // mm/min, for the machine time estimate (no acceleration)
+  double max_residual = 0.5;   // d is measured up to this; above it counts as "not covered"
+  double reach_margin = 0.0;   // reachable: a ball of r + margin touching p is clear
+  double reach_tol = 1e-4;     // ... i.e. no model point closer than r + margin - tol
+  double scallop = -1.0;       // if > 0: coverage = reachable fraction with d <= scallop
+  double cell = 0.5;           // fine cell of the sample grid (mm)
   int threads = 2;
 };
 

@@ -22,12 +22,13 @@ const char* kUsage =
     "                        (--gcode FILE.ngc [--rs274 PATH] [--tool-table FILE] | --canon FILE)\n"
     "                        [--spacing 0.05] [--threads 2] [--scallop H] [--max-residual 0.5]\n"
     "                        [--reach-margin 0] [--reach-tol 1e-4] [--arc-sag 1e-5] [--cell 0.5]\n"
-    "                        [--map FILE [--map-step 0.2]] [--canon-out FILE]\n"
+    "                        [--map FILE [--map-step 0.2]] [--canon-out FILE] [--rapid-rate 5000]\n"
     "Sweeps a ball of radius R (mm) along the program's moves (tool-tip\n"
     "coordinates, ball centre R above the tip) and prints a JSON summary: the\n"
     "most material left on reachable points of the picked faces (FreeCAD's\n"
     "FaceN numbers), the deepest overcut on any face (rapids included, and\n"
-    "rapids alone), counts, lengths. --map writes 'x y residual' lines.\n";
+    "rapids alone), counts, lengths, the machine time at the program's feeds\n"
+    "and --rapid-rate (mm/min, no acceleration). --map writes 'x y residual' lines.\n";
 
 double positive(const std::string& name, const std::string& v, bool allow_zero = false) {
   double x = 0;
@@ -73,10 +74,11 @@ int run(int argc, char** argv) {
       throw std::runtime_error("bad argument '" + key + "' (each option takes a value)\n" + kUsage);
     a[key] = argv[++i];
   }
-  static const char* known[] = {
-      "--brep",      "--faces",   "--radius",  "--gcode",   "--rs274",        "--tool-table",
-      "--canon",     "--spacing", "--threads", "--scallop", "--max-residual", "--reach-margin",
-      "--reach-tol", "--arc-sag", "--cell",    "--map",     "--map-step",     "--canon-out"};
+  static const char* known[] = {"--brep",      "--faces",      "--radius",       "--gcode",
+                                "--rs274",     "--tool-table", "--canon",        "--spacing",
+                                "--threads",   "--scallop",    "--max-residual", "--reach-margin",
+                                "--reach-tol", "--arc-sag",    "--cell",         "--map",
+                                "--map-step",  "--canon-out",  "--rapid-rate"};
   for (const auto& [k, v] : a) {
     bool ok = false;
     for (const char* n : known) ok = ok || k == n;
@@ -96,6 +98,7 @@ int run(int argc, char** argv) {
     o.reach_margin = positive("--reach-margin", a["--reach-margin"], true);
   if (a.count("--reach-tol")) o.reach_tol = positive("--reach-tol", a["--reach-tol"], true);
   if (a.count("--cell")) o.cell = positive("--cell", a["--cell"]);
+  if (a.count("--rapid-rate")) o.rapid_rate = positive("--rapid-rate", a["--rapid-rate"]);
   const double spacing = a.count("--spacing") ? positive("--spacing", a["--spacing"]) : 0.05;
   const double arc_sag = a.count("--arc-sag") ? positive("--arc-sag", a["--arc-sag"]) : 1e-5;
   const std::vector<int> picked = face_list(a["--faces"]);

@@ -86,7 +86,10 @@ void write_json(std::ostream& out, const std::vector<Sample>& samples, const Pro
       << ", \"plunge\": " << fixed(program.plunge_length, 3)
       << ", \"arc\": " << fixed(program.arc_length, 3)
       << ", \"rapid\": " << fixed(program.rapid_length, 3) << "},\n"
-      << "  \"feed_time_min\": " << fixed(program.feed_time_min, 4) << "\n"
+      << "  \"feed_time_min\": " << fixed(program.feed_time_min, 4) << ",\n"
+      << "  \"rapid_rate\": " << num(o.rapid_rate) << ",\n"
+      << "  \"machine_time_min\": "
+      << fixed(program.feed_time_min + program.rapid_length / o.rapid_rate, 4) << "\n"
       << "}\n";
 }
 
