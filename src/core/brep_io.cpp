@@ -10,6 +10,7 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
+#include "brep_guard.h"
 #include "isocam/errors.h"
 
 namespace isocam {
@@ -17,6 +18,7 @@ namespace isocam {
 TopoDS_Shape read_brep(const std::string& text) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw InvalidArgument("brep: the B-rep text is empty");
+  detail::check_brep_text(text);
   TopoDS_Shape shape;
   try {
     std::istringstream in(text);
