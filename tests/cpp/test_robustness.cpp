@@ -12,6 +12,12 @@
 #include <fstream>
 #include <sstream>
 
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <TopoDS_Compound.hxx>
+
+#include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
 #include "isocam/errors.h"
 #include "support/models.h"
@@ -144,6 +150,126 @@ TEST(Robustness, GuardedReaderRejectsNonFiniteNumbersAndBadWeights) {
     EXPECT_NE(e.find("at byte"), std::string::npos) << w << ": " << e;
   }
   EXPECT_NE(read_error(head + "1e50 1 0 0 1e-50\n").find("weights span"), std::string::npos);
+}
+
+// The message of the InvalidArgument that f throws ("" if none).
+std::string invalid_argument(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InvalidArgument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool has(const std::string& text, const std::string& needle) {
+  return text.find(needle) != std::string::npos;
+}
+
+IsoParams iso(double r, double h) {
+  IsoParams p;
+  p.ball_radius = r;
+  p.scallop_height = h;
+  p.safe_z = 50;
+  return p;
+}
+
+TEST(Robustness, ToleranceTooFineForTheModelIsRefused) {
+  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(10.0).Shape();
+  IsoParams p = iso(3, 1e-9);
+  std::string e = invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); });
+  EXPECT_TRUE(has(e, "scallop_height = 1e-09 mm is too fine")) << e;
+  EXPECT_TRUE(has(e, "exceeds 1e+06")) << e;
+  p = iso(3, 0.05);
+  p.chord_tolerance = 1e-12;
+  e = invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); });
+  EXPECT_TRUE(has(e, "chord_tolerance = 1e-12 mm")) << e;
+  // A model 1e6 mm large at 0.01 mm names both.
+  const TopoDS_Shape big = BRepPrimAPI_MakeSphere(5e5).Shape();
+  e = invalid_argument([&] { adaptive_isocurve(big, {0}, iso(3, 0.01)); });
+  EXPECT_TRUE(has(e, "chord_tolerance = 0.01 mm")) << e;
+  EXPECT_TRUE(has(e, "extends 1.73205e+06 mm")) << e;
+}
+
+TEST(Robustness, WorkBudgetIsCheckedBeforeTheWork) {
+  // The sphere at 0.05 mm needs some thousands of moves: a budget of 100
+  // refuses it, naming the estimate and the limit.
+  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(10.0).Shape();
+  IsoParams p = iso(3, 0.05);
+  p.max_moves = 100;
+  std::string e = invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); });
+  EXPECT_TRUE(has(e, "work budget: about")) << e;
+  EXPECT_TRUE(has(e, "exceed max_moves = 100")) << e;
+  p.max_moves = std::nan("");
+  EXPECT_TRUE(has(invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); }), "max_moves = nan"));
+  // Spiral pocket: the 100 x 60 rectangle with a round island at a
+  // stepover of 1e-5 mm is too fine for its size; at 1e-4 mm (some 3 10^6
+  // moves) it is over the default budget.
+  PocketParams pp;
+  pp.tool_radius = 3;
+  pp.stepover = 1e-5;
+  pp.safe_z = 10;
+  const std::vector<Loop> region =
+      make_region(test::rect(0, 0, 100, 60), {test::circle(50, 30, 10, false)});
+  e = invalid_argument([&] { spiral_pocket(region, {0.0}, pp); });
+  EXPECT_TRUE(has(e, "stepover = 1e-05 mm is too fine")) << e;
+  pp.stepover = 1e-4;
+  e = invalid_argument([&] { spiral_pocket(region, {0.0}, pp); });
+  EXPECT_TRUE(has(e, "work budget: about")) << e;
+  EXPECT_TRUE(has(e, "stepover of 0.0001 mm")) << e;
+  EXPECT_TRUE(has(e, "exceed max_moves = 1e+06")) << e;
+  // A budget too small for what an ordinary job computes stops it while
+  // it grows.
+  pp.stepover = 2.4;
+  pp.max_moves = 30;
+  e = invalid_argument([&] { spiral_pocket(region, {0.0, -1.0, -2.0}, pp); });
+  EXPECT_TRUE(has(e, "exceed max_moves = 30")) << e;
+}
+
+TEST(Robustness, ArgumentsOutsideTheirDomainAreRefused) {
+  EXPECT_TRUE(has(invalid_argument([] { stepover_for_scallop(std::nan(""), 0.1); }),
+                  "ball_radius = nan"));
+  EXPECT_TRUE(has(invalid_argument([] { stepover_for_scallop(3, 4); }), "scallop_height = 4"));
+  EXPECT_TRUE(has(invalid_argument([] { scallop_for_stepover(3, 7); }), "delta = 7"));
+  EXPECT_TRUE(has(invalid_argument([] { scallop_for_stepover(3, -1); }), "delta = -1"));
+  EXPECT_DOUBLE_EQ(scallop_for_stepover(3, 6), 3.0);
+  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(10.0).Shape();
+  IsoParams p = iso(1e300, 0.05);
+  EXPECT_TRUE(has(invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); }), "ball_radius = "));
+  p = iso(3, 0.05);
+  p.safe_z = 1e300;
+  EXPECT_TRUE(has(invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); }), "safe_z = "));
+  // A lone vertex: no faces, whatever the numbers say.
+  const TopoDS_Shape vertex = BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, 0)).Shape();
+  p = iso(0.0005, 0.0001);
+  EXPECT_TRUE(has(invalid_argument([&] { adaptive_isocurve(vertex, {0}, p); }), "no faces"));
+  PocketParams pp;
+  pp.tool_radius = 1e300;
+  EXPECT_TRUE(has(invalid_argument([&] {
+                    spiral_pocket(make_region(test::rect(0, 0, 10, 10), {}), {0.0}, pp);
+                  }),
+                  "tool_radius = 1e+300"));
+}
+
+TEST(Robustness, ZLevelRoughingRefusesAModelThatIsNotASolid) {
+  const TopoDS_Shape stock = BRepPrimAPI_MakeBox(gp_Pnt(-5, -5, -10), 90, 90, 50).Shape();
+  RoughingParams rp;
+  rp.pocket.tool_radius = 3;
+  rp.pocket.stepover = 3;
+  rp.pocket.safe_z = 50;
+  rp.depths = {20, 10};
+  TopoDS_Compound empty;
+  BRep_Builder().MakeCompound(empty);
+  // MAT's terrain face (its material side is not closed): once cleared the
+  // stock through it.
+  const std::vector<std::pair<TopoDS_Shape, std::string>> models = {
+      {test::load("MAT.brep"), "(it has 1 faces and no solid)"},
+      {BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, 0)).Shape(), "(it has 0 faces and no solid)"},
+      {empty, "(it has 0 faces and no solid)"}};
+  for (const auto& [model, says] : models) {
+    const std::string e = invalid_argument([&] { zlevel_roughing(model, stock, rp); });
+    EXPECT_TRUE(has(e, "model: not a solid " + says)) << e;
+  }
 }
 
 }  // namespace

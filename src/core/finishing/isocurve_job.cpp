@@ -14,6 +14,7 @@
 #include <Standard_Failure.hxx>
 
 #include "finishing/coverage.h"
+#include "finishing/job_budget.h"
 #include "finishing/stepover.h"
 #include "finishing/parallel_planes.h"
 #include "finishing/task_pool.h"
@@ -49,6 +50,7 @@ void validate(const IsoParams& p) {
   if (p.threads < 0) bad("threads must be >= 0 (0: one per core; got " + std::to_string(p.threads) + ")");
   if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
     bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
+  check_job_limits(p);
 }
 
 struct FaceResult {
@@ -118,12 +120,14 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
 
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
                             const IsoParams& params, Progress* progress) {
-  validate(params);
-  if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty");
+  // The shape first: a shape without faces is that, whatever the numbers.
+  if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty (no faces)");
   const std::vector<TopoDS_Face> all = faces_of(shape);
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
   check_faces(faces, all.size());
+  validate(params);
   const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  check_job_budget(all, faces, params, delta);
   IsoResult result;
   result.metrics.delta = delta;
   // Every picked face gets its grid and trimmed domain and is kept clear of
@@ -176,7 +180,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     max_dist = cut.max_pass_distance;
     // Not a certificate: the flat-ground scallop of the largest pass
     // distance (see the header).
-    max_scallop = scallop_for_stepover(params.ball_radius, max_dist);
+    max_scallop = scallop_for_stepover(params.ball_radius, std::min(max_dist, 2 * params.ball_radius));
     result.metrics.delta_max = delta;
     for (std::size_t k : picked)
       result.metrics.lower_bound_length +=

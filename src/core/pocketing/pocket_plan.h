@@ -54,6 +54,7 @@ struct TreeOptions {
   double radius = 0.0;   // tool radius r
   double cov_tol = 0.0;  // coverage slack: material thinner than 2 cov_tol is ignored
   double snap = 0.0;
+  double max_segments = 1e300;  // the tree's loops may hold at most this many segments
 };
 
 // Builds the tree: roots = the region shrunk by r, then each node shrunk by
