@@ -235,6 +235,8 @@ def param_cases(rng):
         bad = not (v == v) or abs(v) == float("inf") or (v <= 0 and key not in ("safe_z",))
         if key == "safe_z":
             bad = bad or v <= 0 or v > 1e6
+        if key == "min_arc_chord":
+            bad = not (v == v) or abs(v) == float("inf") or v < 0
         depths = [0.0]
         if rng.random() < 0.5:
             return Case(call="spiral_pocket", files={},
@@ -289,7 +291,8 @@ def shape_cases(rng):
                         args={"faces": [0], "params": pocket_params(), "depths": [0.0]},
                         expect=expect, note="pocket_faces on %s scaled by %g" % (name, f))
         return Case(call="zlevel_roughing", files={"model": text, "stock": "@box:%g" % f},
-                    args={"params": pocket_params(stepover=3.0), "depths": [5 * f, 0.0]},
+                    args={"params": pocket_params(stepover=3.0, safe_z=50 * f + 50),
+                          "depths": [5 * f, 0.0]},
                     expect=expect, note="zlevel_roughing on Ball.brep scaled by %g" % f)
     if kind == "moved":
         d = rng.choice((1e5, 1e7, -1e7, 1e9))

@@ -23,8 +23,9 @@ std::string face_label(int face) {
 
 namespace {
 void check_radius(double r) {
-  if (!std::isfinite(r) || !(r > 0))
-    throw InvalidArgument("ball_radius = " + std::to_string(r) + " is out of range: must be > 0");
+  if (!std::isfinite(r) || !(r > 0) || r > 1e5)
+    throw InvalidArgument("ball_radius = " + std::to_string(r) +
+                          " is out of range: must be > 0 and <= 1e5 mm");
 }
 }  // namespace
 

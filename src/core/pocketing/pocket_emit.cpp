@@ -55,7 +55,8 @@ void check_params(const PocketParams& p, bool sculptured) {
   const double r = p.tool_radius;
   if (!std::isfinite(r) || r <= 0) bad("tool_radius", r, "must be > 0");
   if (!std::isfinite(p.stepover) || p.stepover <= 0 || p.stepover > 2 * r)
-    bad("stepover", p.stepover, "must be > 0 and <= the tool diameter");
+    bad("stepover", p.stepover,
+        "must be > 0 and <= the tool diameter 2 x tool_radius = " + std::to_string(2 * r));
   if (!std::isfinite(p.tolerance) || p.tolerance <= 0 || p.tolerance > 0.25 * r)
     bad("tolerance", p.tolerance, "must be > 0 and <= tool_radius / 4");
   if (!std::isfinite(p.floor_tolerance) || p.floor_tolerance <= 0)
@@ -74,10 +75,13 @@ void check_params(const PocketParams& p, bool sculptured) {
 void check_depths(const std::vector<double>& depths, double safe_z) {
   if (depths.empty()) throw InvalidArgument("depths: at least one z level is needed");
   for (std::size_t i = 0; i < depths.size(); ++i) {
-    if (!std::isfinite(depths[i])) throw InvalidArgument("depths: a level is not finite");
+    const std::string level = "depths: level " + std::to_string(i) + " = " + std::to_string(depths[i]);
+    if (!std::isfinite(depths[i]) || std::abs(depths[i]) > 1e6)
+      throw InvalidArgument(level + " is out of range: must be finite and within 1e6 mm of z = 0");
     if (i > 0 && !(depths[i] < depths[i - 1]))
-      throw InvalidArgument("depths: levels must decrease strictly (top to bottom)");
-    if (depths[i] >= safe_z) throw InvalidArgument("depths: every level must be below safe_z");
+      throw InvalidArgument(level + ": levels must decrease strictly (top to bottom)");
+    if (depths[i] >= safe_z)
+      throw InvalidArgument(level + " is not below safe_z = " + std::to_string(safe_z));
   }
 }
 
@@ -127,6 +131,7 @@ FlatPlan make_flat_plan(const std::vector<Loop>& region, const PocketParams& p, 
   OrderOptions oo;
   oo.radius = p.tool_radius;
   oo.snap = snap;
+  oo.progress = progress;
   plan.cuts = order_cuts(plan.tree, oo);
   plan.snap = snap;
   return plan;

@@ -82,6 +82,7 @@ struct OrderOptions {
   // Start points may only be the end points of segments (the sculptured
   // floor's loops are cut from a vertex of their CL polyline).
   bool vertices_only = false;
+  ProgressSlice progress;  // polled for a cancel at every node
 };
 
 // Cutting order (section 2.3): deepest profile first, climbing to the

@@ -179,6 +179,7 @@ class Orderer {
 
   // Cuts the loops of one node, nearest to the tool first.
   void cut_node(int id) {
+    opt_.progress.check();
     const TreeNode& n = node(id);
     std::vector<int> todo(n.loops.size());
     for (std::size_t i = 0; i < todo.size(); ++i) todo[i] = static_cast<int>(i);
