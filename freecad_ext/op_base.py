@@ -92,6 +92,12 @@ class IsoCAMOp(PathOp.ObjectOp):
         self.add_properties(obj)
         add_budget_property(obj)
 
+    def sanitizeBase(self, obj):
+        # FreeCAD's version empties Base when a picked face no longer exists
+        # ("stale base geometry"), after which the op only says that no face
+        # is picked. Keep the user's Base: picked_faces() names the face.
+        return False
+
     def isToolSupported(self, obj, tool):
         requested = getattr(self, "_requested_tc", None)
         if requested is not None:
@@ -206,11 +212,15 @@ def clear_outputs(obj, outputs):
             setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
 
 
+# Core arguments every operation sets the same way.
+COMMON_SOURCES = (("max_moves", "property MaxMoves"),)
+
+
 def describe(exc, argument_sources):
     """The exception's message, plus which FreeCAD input a core argument named
     in it is set by (`argument_sources`: (core argument, FreeCAD input) pairs)."""
     message = str(exc) or type(exc).__name__
-    sources = [src for arg, src in argument_sources if arg in message]
+    sources = [src for arg, src in tuple(argument_sources) + COMMON_SOURCES if arg in message]
     if sources:
         message += " [set by %s]" % ", ".join(sources)
     return message

@@ -386,7 +386,7 @@ def limit(memory_mb):
 def classify(case, proc_rc, out, timed_out):
     if timed_out:
         return "HANG", "no result within the time limit"
-    m = re.search(r"^FUZZ-RESULT (.*)$", out, re.M)
+    m = re.search(r"FUZZ-RESULT (\{.*\})$", out, re.M)
     if proc_rc < 0:
         return "CRASH", "signal %s" % signal.Signals(-proc_rc).name
     if not m:
