@@ -12,12 +12,15 @@
 #include <fstream>
 #include <sstream>
 
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <gp_Pln.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
 
 #include "isocam/adaptive_isocurve.h"
+#include "geometry/patch_grid.h"
 #include "isocam/brep_io.h"
 #include "isocam/errors.h"
 #include "support/models.h"
@@ -269,6 +272,15 @@ TEST(Robustness, ZLevelRoughingRefusesAModelThatIsNotASolid) {
   for (const auto& [model, says] : models) {
     const std::string e = invalid_argument([&] { zlevel_roughing(model, stock, rp); });
     EXPECT_TRUE(has(e, "model: not a solid " + says)) << e;
+  }
+}
+
+// A large plane has area: the degenerate-face test is relative to the
+// surface's own derivatives, not to the model's size squared.
+TEST(Robustness, LargePlaneIsNotDegenerate) {
+  for (double side : {1.0, 1e3, 1e6}) {
+    const TopoDS_Face plane = BRepBuilderAPI_MakeFace(gp_Pln(), 0, side, 0, side).Face();
+    EXPECT_NO_THROW(PatchGrid::from_face(plane, 0)) << side;
   }
 }
 
