@@ -35,8 +35,12 @@ void check_work_budget(double estimate, double max_moves, const std::string& how
   if (!(estimate <= max_moves)) {
     std::ostringstream m;
     m.precision(3);
-    m << "work budget: about " << estimate << " moves (" << how << ") exceed max_moves = "
-      << max_moves << "; raise max_moves (the operation's MaxMoves) or coarsen the tolerances";
+    m << "work budget: about " << estimate << " moves (" << how << ") exceed max_moves = ";
+    if (max_moves < 1e6)
+      m << static_cast<long>(max_moves);
+    else
+      m << max_moves;
+    m << "; raise max_moves (the operation's MaxMoves) or coarsen the tolerances";
     throw InvalidArgument(m.str());
   }
 }

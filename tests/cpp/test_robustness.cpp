@@ -203,6 +203,13 @@ TEST(Robustness, WorkBudgetIsCheckedBeforeTheWork) {
   std::string e = invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); });
   EXPECT_TRUE(has(e, "work budget: about")) << e;
   EXPECT_TRUE(has(e, "exceed max_moves = 100")) << e;
+  // The estimate is a lower bound (about 420 moves here); the planned
+  // passes are held to the budget too.
+  p = iso(3, 0.05);
+  p.max_moves = 1000;
+  e = invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); });
+  EXPECT_TRUE(has(e, "the points of the planned passes")) << e;
+  EXPECT_TRUE(has(e, "exceed max_moves = 1000")) << e;
   p.max_moves = std::nan("");
   EXPECT_TRUE(has(invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); }), "max_moves = nan"));
   // Spiral pocket: the 100 x 60 rectangle with a round island at a

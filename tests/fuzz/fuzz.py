@@ -278,7 +278,7 @@ def shape_cases(rng):
     """Models scaled or moved far, tiny tolerances, degenerate profiles."""
     kind = rng.choice(("scaled", "moved", "tiny_tol", "profile", "deep"))
     expect = ["too fine", "budget", "brep", "face", "Face", "stepover", "tolerance",
-              "profile", "boundary", "not", "no "]
+              "profile", "boundary", "not", "no ", "out of range", "safe_z", "depths"]
     if kind == "scaled":
         f = rng.choice((1e-4, 1e-3, 1e3, 1e6))
         name = rng.choice(("face.brep", "Ball.brep", "wing.brep"))

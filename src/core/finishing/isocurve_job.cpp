@@ -92,8 +92,19 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
                    ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
                    : adaptive_coverage(*r.grid, face.index, dir, field, p, progress);
   r.coverage.curves = clip_to_face(r.coverage.curves, *face.trim);
+  // The budget again, on what was computed (the estimate before the work
+  // is a lower bound): each curve is at least one move.
+  const auto over = [&](double n, const char* what) {
+    if (n > p.max_moves) check_work_budget(n, p.max_moves, face_label(face.index) + ": " + what);
+  };
+  over(static_cast<double>(r.coverage.curves.size()), "the sub-isocurves planned");
   r.planned = plan_face(*r.grid, r.coverage.curves, p);
-  for (const PlannedCurve& c : r.planned) r.planned_length += c.line.length();
+  double points = 0.0;
+  for (const PlannedCurve& c : r.planned) {
+    r.planned_length += c.line.length();
+    points += static_cast<double>(c.line.pts.size());
+  }
+  over(points, "the points of the planned passes");
   return r;
 }
 
