@@ -9,6 +9,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include <Standard_Failure.hxx>
@@ -38,9 +39,12 @@ void validate(const IsoParams& p) {
   auto bad = [](const std::string& s) { throw InvalidArgument(s); };
   if (!(p.ball_radius > 0) || !std::isfinite(p.ball_radius))
     bad("ball_radius must be > 0 mm (got " + std::to_string(p.ball_radius) + ")");
-  if (!(p.scallop_height > 0) || !(p.scallop_height < p.ball_radius))
-    bad("scallop_height must be > 0 and < the ball radius " + std::to_string(p.ball_radius) +
-        " mm (got " + std::to_string(p.scallop_height) + ")");
+  if (!(p.scallop_height > 0) || !(p.scallop_height < p.ball_radius)) {
+    std::ostringstream m;
+    m << "scallop_height must be > 0 and < the ball radius (ball_radius = " << p.ball_radius
+      << " mm; got " << p.scallop_height << ")";
+    bad(m.str());
+  }
   if (!(p.chord_tolerance > 0) || !std::isfinite(p.chord_tolerance))
     bad("chord_tolerance must be > 0 mm (got " + std::to_string(p.chord_tolerance) + ")");
   if (p.max_depth < 1) bad("max_depth must be >= 1 (got " + std::to_string(p.max_depth) + ")");
