@@ -226,6 +226,9 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
         _write_outputs(obj, metrics, _directions_used(results))
         _print_certificate(obj, metrics, time.monotonic() - started)
         _warn_guarantee(obj, metrics)
+        for res in results:
+            for warning in res.warnings:
+                op_base.PathLog.warning("%s: %s" % (obj.Label, warning))
 
     # -- steps of opExecute -------------------------------------------------
 

@@ -282,6 +282,23 @@ TEST(Robustness, ZLevelRoughingRefusesAModelThatIsNotASolid) {
   }
 }
 
+// tests/data/face.brep is a reversed open face at z = 0: its orientation
+// puts the ball under it, which the result says; a sphere (a solid) and
+// MAT (an open face turned up) give no such warning.
+TEST(Robustness, OpenFaceTurnedDownIsReported) {
+  auto warned = [](const TopoDS_Shape& s, double h) {
+    IsoParams p = iso(3, h);
+    const IsoResult r = adaptive_isocurve(s, {0}, p);
+    for (const std::string& w : r.warnings)
+      if (has(w, "Face1) is an open face whose orientation puts the material above it"))
+        return true;
+    return false;
+  };
+  EXPECT_TRUE(warned(test::load("face.brep"), 0.5));
+  EXPECT_FALSE(warned(BRepPrimAPI_MakeSphere(10.0).Shape(), 0.5));
+  EXPECT_FALSE(warned(test::load("MAT.brep"), 0.5));
+}
+
 // A large plane has area: the degenerate-face test is relative to the
 // surface's own derivatives, not to the model's size squared.
 TEST(Robustness, LargePlaneIsNotDegenerate) {

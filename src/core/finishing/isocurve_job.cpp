@@ -15,6 +15,7 @@
 #include <Standard_Failure.hxx>
 
 #include "finishing/coverage.h"
+#include "finishing/face_side.h"
 #include "finishing/job_budget.h"
 #include "finishing/stepover.h"
 #include "finishing/parallel_planes.h"
@@ -173,7 +174,13 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
       result.warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
       continue;
     }
-    if (at != faces.end()) picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
+    if (at != faces.end()) {
+      picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
+      if (open_face_turned_down(shape, all[i], model_faces.back().grid))
+        result.warnings.push_back(
+            face_label(f) + " is an open face whose orientation puts the material above it: "
+                            "the ball runs under it (reverse the face to finish its upper side)");
+    }
   }
   model.build();
   double max_dist = 0.0, max_scallop = 0.0;
