@@ -170,7 +170,6 @@ def moved(text, d):
 
 BOUNDARY = [[0, 0, 0, 0, 0], [100, 0, 0, 0, 0], [100, 60, 0, 0, 0], [0, 60, 0, 0, 0]]
 ISLAND = [[60, 30, 50, 30, -1], [40, 30, 50, 30, -1]]
-STOCK_BOX = None  # B-rep of a box, made on demand from Ball.brep's bounds
 
 
 class Case(dict):
@@ -362,12 +361,12 @@ def generate(count, seed):
 
 
 def box_brep(scale=1.0):
-    """A B-rep box around Ball.brep's neighbourhood (scaled), as stock."""
+    """The stock for roughing cases: tests/data/fuzz_stock_box.brep, a box
+    5 mm around Ball.brep (written by FreeCAD), scaled with the model."""
     key = "box:%g" % scale
     if key not in _BOX_CACHE:
-        # A unit box's B-rep, written by OpenCASCADE: kept in the data folder.
-        _BOX_CACHE[key] = scaled(read("fuzz_stock_box.brep"), scale) if scale != 1 else read(
-            "fuzz_stock_box.brep")
+        text = read("fuzz_stock_box.brep")
+        _BOX_CACHE[key] = scaled(text, scale) if scale != 1 else text
     return _BOX_CACHE[key]
 
 
