@@ -225,6 +225,10 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
         metrics = _combined_metrics(results)
         _write_outputs(obj, metrics, _directions_used(results))
         _print_certificate(obj, metrics, time.monotonic() - started)
+        _warn_guarantee(obj, metrics)
+        for res in results:
+            for warning in res.warnings:
+                op_base.PathLog.warning("%s: %s" % (obj.Label, warning))
 
     # -- steps of opExecute -------------------------------------------------
 
@@ -331,6 +335,7 @@ def _iso_params(obj, core, ball_radius):
     params.scallop_bound = getattr(core.IsoScallopBound, obj.ScallopBound)
     params.protect_unpicked_faces = bool(obj.ProtectModel)
     params.safe_z = obj.SafeHeight.Value
+    params.max_moves = op_base.max_moves(obj)
     return params
 
 
@@ -412,6 +417,17 @@ def _print_certificate(obj, m, seconds):
             seconds,
         )
     )
+
+
+def _warn_guarantee(obj, m):
+    """A warning in the report when the certificate promises less than asked."""
+    requested = obj.ScallopHeight.Value
+    if m["guaranteed_scallop"] > requested * (1 + 1e-6):
+        op_base.PathLog.warning(
+            "%s: the guaranteed scallop height %.5f mm is above the requested %.5f mm "
+            "(ScallopBound = %s; the flat bound does not hold on convex ground)"
+            % (obj.Label, m["guaranteed_scallop"], requested, obj.ScallopBound)
+        )
 
 
 def SetupProperties():

@@ -41,6 +41,12 @@ def picked_faces(obj, what="faces"):
                     % (base.Label, sub, what)
                 )
             index = int(sub[4:]) - 1
+            count = len(base.Shape.Faces)
+            if not 0 <= index < count:
+                raise IsoCAMError(
+                    "Base %s.%s does not exist: %s has %d face%s (Face1..Face%d)"
+                    % (base.Label, sub, base.Label, count, "" if count == 1 else "s", count)
+                )
             if index not in indices:
                 indices.append(index)
         if indices:
@@ -78,11 +84,19 @@ class IsoCAMOp(PathOp.ObjectOp):
         # `obj` may be a SetupSheet OpPrototype: addProperty, setEditorMode
         # and attribute assignment are all it supports.
         self.add_properties(obj)
+        add_budget_property(obj)
 
     def opOnDocumentRestored(self, obj):
         # Files written by older versions may lack newer properties; editor
         # modes are not saved.
         self.add_properties(obj)
+        add_budget_property(obj)
+
+    def sanitizeBase(self, obj):
+        # FreeCAD's version empties Base when a picked face no longer exists
+        # ("stale base geometry"), after which the op only says that no face
+        # is picked. Keep the user's Base: picked_faces() names the face.
+        return False
 
     def isToolSupported(self, obj, tool):
         requested = getattr(self, "_requested_tc", None)
@@ -122,6 +136,7 @@ class IsoCAMOp(PathOp.ObjectOp):
         that a straight descent.
         """
         clearance = obj.ClearanceHeight.Value
+        check_moves(self, obj, results, clearance)
         x0, y0 = (float(v) for v in results[0].xyz[0][:2])
         self.commandlist.append(Path.Command("G0", {"Z": clearance}))
         self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
@@ -142,6 +157,54 @@ class IsoCAMOp(PathOp.ObjectOp):
         raise IsoCAMError(message) from None
 
 
+# The work budget (src/core isocam/work_budget.h: kDefaultMaxMoves).
+DEFAULT_MAX_MOVES = 1000000
+
+
+def add_budget_property(obj):
+    """The MaxMoves property every IsoCAM op has (added to older files)."""
+    if not hasattr(obj, "MaxMoves"):
+        obj.addProperty(
+            "App::PropertyInteger",
+            "MaxMoves",
+            "Work budget",
+            "Largest number of moves the operation may compute. A job whose "
+            "estimate (from the faces' area, the stepover and the tolerances) "
+            "is larger is refused before the work; raise it for a larger job.",
+        )
+        obj.MaxMoves = DEFAULT_MAX_MOVES
+
+
+def max_moves(obj):
+    """The core's max_moves from the MaxMoves property (the default if absent)."""
+    return float(getattr(obj, "MaxMoves", DEFAULT_MAX_MOVES))
+
+
+def check_moves(proxy, obj, results, clearance):
+    """Refuse (fail()) moves that are not finite, and a ClearanceHeight
+    below the path's highest point: the first move goes there, across the
+    model. Warn when the path is empty."""
+    top = None
+    for res in results:
+        xyz = res.xyz
+        if len(xyz) == 0:
+            continue
+        if not all(math.isfinite(v) for v in xyz.ravel().tolist()):
+            proxy.fail(obj, "the core returned a move that is not finite (please report)")
+        z = float(xyz[:, 2].max())
+        top = z if top is None else max(top, z)
+    if top is None:
+        PathLog.warning("%s: the path is empty" % obj.Label)
+        return
+    if clearance < top - 1e-9:
+        proxy.fail(
+            obj,
+            "property ClearanceHeight (%g mm) is below the path's highest point "
+            "(z = %g mm, SafeHeight or the model's top); raise ClearanceHeight"
+            % (clearance, top),
+        )
+
+
 def clear_outputs(obj, outputs):
     """Zero (or empty) the read-only output properties `obj` has."""
     for prop_type, name, _attr, _tip in outputs:
@@ -149,11 +212,15 @@ def clear_outputs(obj, outputs):
             setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
 
 
+# Core arguments every operation sets the same way.
+COMMON_SOURCES = (("max_moves", "property MaxMoves"),)
+
+
 def describe(exc, argument_sources):
     """The exception's message, plus which FreeCAD input a core argument named
     in it is set by (`argument_sources`: (core argument, FreeCAD input) pairs)."""
     message = str(exc) or type(exc).__name__
-    sources = [src for arg, src in argument_sources if arg in message]
+    sources = [src for arg, src in tuple(argument_sources) + COMMON_SOURCES if arg in message]
     if sources:
         message += " [set by %s]" % ", ".join(sources)
     return message

@@ -61,6 +61,7 @@ def pocket_params(obj, core, radius, tolerance, scallop=None):
         params.scallop_height = scallop
     params.direction = getattr(core.CutDirection, obj.Direction)
     params.safe_z = obj.SafeHeight.Value
+    params.max_moves = op_base.max_moves(obj)
     return params
 
 

@@ -160,7 +160,9 @@ void bind_pocketing(py::module_& m) {
       .def_readwrite("scallop_height", &PocketParams::scallop_height, "sculptured floor")
       .def_readwrite("direction", &PocketParams::direction)
       .def_readwrite("safe_z", &PocketParams::safe_z)
-      .def_readwrite("min_arc_chord", &PocketParams::min_arc_chord);
+      .def_readwrite("min_arc_chord", &PocketParams::min_arc_chord)
+      .def_readwrite("max_moves", &PocketParams::max_moves,
+                     "work budget: a job estimated to need more moves is refused");
 
   py::class_<PocketMetrics>(m, "PocketMetrics")
       .def_readonly("cutting_length", &PocketMetrics::cutting_length)

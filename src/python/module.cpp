@@ -119,7 +119,9 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readwrite("gouge_tolerance", &IsoParams::gouge_tolerance)
       .def_readwrite("protect_unpicked_faces", &IsoParams::protect_unpicked_faces)
       .def_readwrite("threads", &IsoParams::threads)
-      .def_readwrite("min_param_gap", &IsoParams::min_param_gap);
+      .def_readwrite("min_param_gap", &IsoParams::min_param_gap)
+      .def_readwrite("max_moves", &IsoParams::max_moves,
+                     "work budget: a job estimated to need more moves is refused");
 
   py::class_<Progress, std::shared_ptr<Progress>>(
       m, "Progress", "Shared progress/cancel flag; poll .fraction from another thread")

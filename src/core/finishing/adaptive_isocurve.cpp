@@ -21,9 +21,28 @@ std::string face_label(int face) {
   return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")";
 }
 
-double stepover_for_scallop(double r, double h) { return 2.0 * std::sqrt(2.0 * r * h - h * h); }
+namespace {
+void check_radius(double r) {
+  if (!std::isfinite(r) || !(r > 0) || r > 1e5)
+    throw InvalidArgument("ball_radius = " + std::to_string(r) +
+                          " is out of range: must be > 0 and <= 1e5 mm");
+}
+}  // namespace
+
+double stepover_for_scallop(double r, double h) {
+  check_radius(r);
+  if (!std::isfinite(h) || !(h > 0) || h > r)
+    throw InvalidArgument("scallop_height = " + std::to_string(h) +
+                          " is out of range: must be > 0 and <= ball_radius = " + std::to_string(r));
+  return 2.0 * std::sqrt(2.0 * r * h - h * h);
+}
 
 double scallop_for_stepover(double r, double delta) {
+  check_radius(r);
+  if (!std::isfinite(delta) || delta < 0 || delta > 2 * r)
+    throw InvalidArgument("delta = " + std::to_string(delta) +
+                          " is out of range: must be >= 0 and <= the ball diameter " +
+                          std::to_string(2 * r));
   const double half = 0.5 * delta;
   return half >= r ? r : r - std::sqrt(r * r - half * half);
 }

@@ -9,11 +9,14 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include <Standard_Failure.hxx>
 
 #include "finishing/coverage.h"
+#include "finishing/face_side.h"
+#include "finishing/job_budget.h"
 #include "finishing/stepover.h"
 #include "finishing/parallel_planes.h"
 #include "finishing/task_pool.h"
@@ -37,9 +40,12 @@ void validate(const IsoParams& p) {
   auto bad = [](const std::string& s) { throw InvalidArgument(s); };
   if (!(p.ball_radius > 0) || !std::isfinite(p.ball_radius))
     bad("ball_radius must be > 0 mm (got " + std::to_string(p.ball_radius) + ")");
-  if (!(p.scallop_height > 0) || !(p.scallop_height < p.ball_radius))
-    bad("scallop_height must be > 0 and < the ball radius " + std::to_string(p.ball_radius) +
-        " mm (got " + std::to_string(p.scallop_height) + ")");
+  if (!(p.scallop_height > 0) || !(p.scallop_height < p.ball_radius)) {
+    std::ostringstream m;
+    m << "scallop_height must be > 0 and < the ball radius (ball_radius = " << p.ball_radius
+      << " mm; got " << p.scallop_height << ")";
+    bad(m.str());
+  }
   if (!(p.chord_tolerance > 0) || !std::isfinite(p.chord_tolerance))
     bad("chord_tolerance must be > 0 mm (got " + std::to_string(p.chord_tolerance) + ")");
   if (p.max_depth < 1) bad("max_depth must be >= 1 (got " + std::to_string(p.max_depth) + ")");
@@ -49,6 +55,7 @@ void validate(const IsoParams& p) {
   if (p.threads < 0) bad("threads must be >= 0 (0: one per core; got " + std::to_string(p.threads) + ")");
   if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
     bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
+  check_job_limits(p);
 }
 
 struct FaceResult {
@@ -90,8 +97,19 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
                    ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
                    : adaptive_coverage(*r.grid, face.index, dir, field, p, progress);
   r.coverage.curves = clip_to_face(r.coverage.curves, *face.trim);
+  // The budget again, on what was computed (the estimate before the work
+  // is a lower bound): each curve is at least one move.
+  const auto over = [&](double n, const char* what) {
+    if (n > p.max_moves) check_work_budget(n, p.max_moves, face_label(face.index) + ": " + what);
+  };
+  over(static_cast<double>(r.coverage.curves.size()), "the sub-isocurves planned");
   r.planned = plan_face(*r.grid, r.coverage.curves, p);
-  for (const PlannedCurve& c : r.planned) r.planned_length += c.line.length();
+  double points = 0.0;
+  for (const PlannedCurve& c : r.planned) {
+    r.planned_length += c.line.length();
+    points += static_cast<double>(c.line.pts.size());
+  }
+  over(points, "the points of the planned passes");
   return r;
 }
 
@@ -118,12 +136,14 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
 
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
                             const IsoParams& params, Progress* progress) {
-  validate(params);
-  if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty");
+  // The shape first: a shape without faces is that, whatever the numbers.
+  if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty (no faces)");
   const std::vector<TopoDS_Face> all = faces_of(shape);
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
   check_faces(faces, all.size());
+  validate(params);
   const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  check_job_budget(all, faces, params, delta);
   IsoResult result;
   result.metrics.delta = delta;
   // Every picked face gets its grid and trimmed domain and is kept clear of
@@ -154,7 +174,13 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
       result.warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
       continue;
     }
-    if (at != faces.end()) picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
+    if (at != faces.end()) {
+      picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
+      if (open_face_turned_down(shape, all[i], model_faces.back().grid))
+        result.warnings.push_back(
+            face_label(f) + " is an open face whose orientation puts the material above it: "
+                            "the ball runs under it (reverse the face to finish its upper side)");
+    }
   }
   model.build();
   double max_dist = 0.0, max_scallop = 0.0;
@@ -176,7 +202,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     max_dist = cut.max_pass_distance;
     // Not a certificate: the flat-ground scallop of the largest pass
     // distance (see the header).
-    max_scallop = scallop_for_stepover(params.ball_radius, max_dist);
+    max_scallop = scallop_for_stepover(params.ball_radius, std::min(max_dist, 2 * params.ball_radius));
     result.metrics.delta_max = delta;
     for (std::size_t k : picked)
       result.metrics.lower_bound_length +=

@@ -189,7 +189,10 @@ PatchGrid PatchGrid::from_face(const TopoDS_Face& face, int face_label) {
       const double u = g.umin() + (g.umax() - g.umin()) * (0.1 + 0.2 * a);
       const double v = g.vmin() + (g.vmax() - g.vmin()) * (0.1 + 0.2 * b);
       const SurfaceDerivs d = g.d1(u, v);
-      if (d.su.Crossed(d.sv).Magnitude() > 1e-12 * g.size_ * g.size_) ++regular;
+      // Relative to the derivatives themselves, so that the test does not
+      // depend on the face's size or its parametrisation.
+      const double m = d.su.Magnitude() * d.sv.Magnitude();
+      if (m > 0 && d.su.Crossed(d.sv).Magnitude() > 1e-10 * m) ++regular;
     }
   }
   if (regular == 0) throw GeometryError(label(face_label) + " is degenerate: it has no area");

@@ -195,6 +195,14 @@ double sample_node(TreeNode& node, const Sampler& sampler, const BallDrop& floor
 void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vector<Loop>& region,
                            const PocketParams& p, PocketPath& path, PocketMetrics& m,
                            const ProgressSlice& progress) {
+  {
+    // The tolerances against the region's extent (isocam/work_budget.h).
+    const Box2 box = loops_box(region);
+    const double extent = std::max({box.size(), std::abs(box.x0), std::abs(box.y0),
+                                    std::abs(box.x1), std::abs(box.y1)});
+    check_tolerance_ratio("floor_tolerance", p.floor_tolerance, extent);
+    check_tolerance_ratio("scallop_height", p.scallop_height, extent);
+  }
   const double mesh_tol = std::clamp(0.1 * p.floor_tolerance, 1e-3, 0.01);
   const BallDrop floor(faces, p.tool_radius, mesh_tol);
   const Sampler sampler(floor, p.tolerance, p.floor_tolerance);
@@ -203,6 +211,7 @@ void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vec
   to.radius = p.tool_radius;
   to.cov_tol = p.tolerance;
   to.snap = snap;
+  to.max_segments = p.max_moves;
   const double h = p.scallop_height;
   const OffsetTree tree = build_offset_tree(
       region, to,
@@ -215,6 +224,7 @@ void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vec
   oo.radius = p.tool_radius;
   oo.snap = snap;
   oo.vertices_only = true;
+  oo.progress = progress;
   const std::vector<LoopCut> cuts = order_cuts(tree, oo);
   const bool climb = p.direction == CutDirection::Climb;
   bool first = true;

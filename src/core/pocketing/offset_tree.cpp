@@ -20,6 +20,7 @@
 #include <deque>
 
 #include "isocam/errors.h"
+#include "isocam/work_budget.h"
 #include "pocketing/pocket_plan.h"
 
 namespace isocam::pocket {
@@ -57,6 +58,7 @@ OffsetTree build_offset_tree(const std::vector<Loop>& region, const TreeOptions&
   // deeper than the region is wide can only come from a numerical failure.
   const double size = pocket::loops_box(region).size();
   double done_area = 0.0;
+  double segments = 0.0;  // in all nodes so far: held to the work budget
   while (!queue.empty()) {
     progress.check();
     const int id = queue.front();
@@ -102,11 +104,14 @@ OffsetTree build_offset_tree(const std::vector<Loop>& region, const TreeOptions&
       n.parent = id;
       n.depth = tree.nodes[static_cast<std::size_t>(id)].depth + 1;
       inner_area += region_area(n.loops);
+      for (const Loop& l : n.loops) segments += static_cast<double>(l.size());
       const int child = static_cast<int>(tree.nodes.size());
       tree.nodes[static_cast<std::size_t>(id)].children.push_back(child);
       tree.nodes.push_back(std::move(n));
       queue.push_back(child);
     }
+    if (segments > opt.max_segments)
+      check_work_budget(segments, opt.max_segments, "the offset loops computed so far");
     done_area += std::max(0.0, area - inner_area);
     if (total_area > 0) progress.report(std::min(1.0, done_area / total_area));
   }

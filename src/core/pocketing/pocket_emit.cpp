@@ -55,7 +55,8 @@ void check_params(const PocketParams& p, bool sculptured) {
   const double r = p.tool_radius;
   if (!std::isfinite(r) || r <= 0) bad("tool_radius", r, "must be > 0");
   if (!std::isfinite(p.stepover) || p.stepover <= 0 || p.stepover > 2 * r)
-    bad("stepover", p.stepover, "must be > 0 and <= the tool diameter");
+    bad("stepover", p.stepover,
+        "must be > 0 and <= the tool diameter 2 x tool_radius = " + std::to_string(2 * r));
   if (!std::isfinite(p.tolerance) || p.tolerance <= 0 || p.tolerance > 0.25 * r)
     bad("tolerance", p.tolerance, "must be > 0 and <= tool_radius / 4");
   if (!std::isfinite(p.floor_tolerance) || p.floor_tolerance <= 0)
@@ -63,7 +64,10 @@ void check_params(const PocketParams& p, bool sculptured) {
   if (sculptured &&
       (!std::isfinite(p.scallop_height) || p.scallop_height <= 0 || p.scallop_height >= r))
     bad("scallop_height", p.scallop_height, "must be > 0 and < tool_radius");
-  if (!std::isfinite(p.safe_z)) bad("safe_z", p.safe_z, "must be finite");
+  if (r > 1e5) bad("tool_radius", r, "must be <= 1e5 mm");
+  if (!std::isfinite(p.safe_z) || std::abs(p.safe_z) > 1e6)
+    bad("safe_z", p.safe_z, "must be finite and within 1e6 mm of z = 0");
+  check_max_moves(p.max_moves);
   if (!std::isfinite(p.min_arc_chord) || p.min_arc_chord < 0)
     bad("min_arc_chord", p.min_arc_chord, "must be >= 0");
 }
@@ -71,11 +75,45 @@ void check_params(const PocketParams& p, bool sculptured) {
 void check_depths(const std::vector<double>& depths, double safe_z) {
   if (depths.empty()) throw InvalidArgument("depths: at least one z level is needed");
   for (std::size_t i = 0; i < depths.size(); ++i) {
-    if (!std::isfinite(depths[i])) throw InvalidArgument("depths: a level is not finite");
+    const std::string level = "depths: level " + std::to_string(i) + " = " + std::to_string(depths[i]);
+    if (!std::isfinite(depths[i]) || std::abs(depths[i]) > 1e6)
+      throw InvalidArgument(level + " is out of range: must be finite and within 1e6 mm of z = 0");
     if (i > 0 && !(depths[i] < depths[i - 1]))
-      throw InvalidArgument("depths: levels must decrease strictly (top to bottom)");
-    if (depths[i] >= safe_z) throw InvalidArgument("depths: every level must be below safe_z");
+      throw InvalidArgument(level + ": levels must decrease strictly (top to bottom)");
+    if (depths[i] >= safe_z)
+      throw InvalidArgument(level + " is not below safe_z = " + std::to_string(safe_z));
   }
+}
+
+void check_plan_budget(const std::vector<Loop>& region, const PocketParams& p, std::size_t levels) {
+  const Box2 box = loops_box(region);
+  if (box.empty()) return;
+  const double far = std::max({std::abs(box.x0), std::abs(box.y0), std::abs(box.x1), std::abs(box.y1)});
+  const double extent = std::max(box.size(), far);
+  check_tolerance_ratio("tolerance", p.tolerance, extent);
+  check_tolerance_ratio("stepover", p.stepover, extent);
+  double perimeter = 0.0, segs = 0.0;
+  for (const Loop& l : region)
+    for (const Seg& s : l) {
+      perimeter += s.length();
+      segs += 1.0;
+    }
+  const double area = std::abs(region_area(region));
+  if (!(perimeter > 0)) return;
+  // Levels: at least (area / perimeter) / stepover (the inradius of a
+  // convex region is at least area / perimeter); each level has about
+  // twice the profile's segments (an arc at each convex corner).
+  const double per_level = area / perimeter / p.stepover * 2.0 * segs + segs;
+  std::ostringstream how;
+  how.precision(3);
+  how << area << " mm^2 at a stepover of " << p.stepover << " mm, " << segs << " segments along "
+      << perimeter << " mm of profile, " << levels << " z level(s)";
+  check_work_budget(per_level * static_cast<double>(levels), p.max_moves, how.str());
+}
+
+void check_path_budget(const PocketPath& path, const PocketParams& p) {
+  if (static_cast<double>(path.size()) > p.max_moves)
+    check_work_budget(static_cast<double>(path.size()), p.max_moves, "the path computed so far");
 }
 
 FlatPlan make_flat_plan(const std::vector<Loop>& region, const PocketParams& p, double snap,
@@ -85,12 +123,15 @@ FlatPlan make_flat_plan(const std::vector<Loop>& region, const PocketParams& p, 
   to.radius = p.tool_radius;
   to.cov_tol = p.tolerance;
   to.snap = snap;
+  to.max_segments = p.max_moves;
+  check_plan_budget(region, p, 1);
   const Step st{p.stepover, p.tool_radius};
   plan.tree = build_offset_tree(
       region, to, [st](TreeNode&) { return st; }, progress);
   OrderOptions oo;
   oo.radius = p.tool_radius;
   oo.snap = snap;
+  oo.progress = progress;
   plan.cuts = order_cuts(plan.tree, oo);
   plan.snap = snap;
   return plan;
@@ -140,6 +181,7 @@ void emit_flat_plan(const FlatPlan& plan, double z, const PocketParams& p, Pocke
     move_to_start(path, trav.front().a, z, link, p.safe_z);
     if (link == LinkKind::Feed) ++m.feed_links;
     for (const Seg& s : trav) emit_seg_flat(path, s, z, p.min_arc_chord);
+    check_path_budget(path, p);
     ++m.loops;
     first = false;
   }
@@ -206,6 +248,7 @@ PocketResult spiral_pocket(const std::vector<Loop>& region, const std::vector<do
   const ProgressSlice ps(progress);
   PocketResult res;
   if (region.empty()) return res;
+  check_plan_budget(region, params, depths.size());
   const FlatPlan plan = make_flat_plan(region, params, default_snap(region), ps.sub(0.0, 0.9));
   for (double z : depths) {
     emit_flat_plan(plan, z, params, res.path, res.metrics);

@@ -12,6 +12,11 @@ namespace isocam::pocket {
 // Throw InvalidArgument naming the parameter and its limit.
 void check_params(const PocketParams& p, bool sculptured);
 void check_depths(const std::vector<double>& depths, double safe_z);
+// The tolerance and stepover against the region's extent, and the moves
+// estimated for `levels` levels of it against max_moves (work_budget.h).
+void check_plan_budget(const std::vector<Loop>& region, const PocketParams& p, std::size_t levels);
+// Throws the work-budget error once the path holds more than max_moves moves.
+void check_path_budget(const PocketPath& path, const PocketParams& p);
 
 // Offset tree and cutting order of one region for a flat floor.
 struct FlatPlan {

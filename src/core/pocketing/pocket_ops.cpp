@@ -6,6 +6,8 @@
 #include <BRepBndLib.hxx>
 #include <Bnd_Box.hxx>
 #include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <algorithm>
 #include <cmath>
@@ -104,6 +106,16 @@ FloorInfo classify(const TopoDS_Face& face) {
   return f;
 }
 
+void check_has_solid(const TopoDS_Shape& shape, const std::string& name) {
+  TopTools_IndexedMapOfShape solids, faces;
+  TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+  if (solids.Extent() > 0) return;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  throw InvalidArgument(name + ": not a solid (it has " + std::to_string(faces.Extent()) +
+                        " faces and no solid): Z-level roughing needs the material as a closed "
+                        "solid, or it would cut through the model; make a solid of it first");
+}
+
 void note(PocketMetrics& m, const std::string& msg) {
   m.messages.push_back(msg);
   ++m.warnings;
@@ -167,6 +179,7 @@ PocketResult pocket_faces(const TopoDS_Shape& shape, const std::vector<int>& fac
           if (z > z_stop + 1e-6) above.push_back(z);
         if (!above.empty()) pocket_levels(base, shape, above, 0.0, 0.0, p, res, fs.sub(0.0, 0.5));
         sculptured_floor_pass({face}, base, p, res.path, res.metrics, fs.sub(0.5, 1.0));
+        check_path_budget(res.path, p);
         ++res.metrics.levels;
       }
       if (res.path.size() == before)
@@ -192,6 +205,11 @@ PocketResult zlevel_roughing(const TopoDS_Shape& model, const TopoDS_Shape& stoc
                           " is out of range: must be >= 0");
   if (model.IsNull()) throw InvalidArgument("model: empty shape");
   if (stock.IsNull()) throw InvalidArgument("stock: empty shape");
+  // The material is what the model's solids enclose (section_region): a
+  // model of faces, wires or vertices only encloses nothing, and the tool
+  // would clear the stock straight through it.
+  check_has_solid(model, "model");
+  check_has_solid(stock, "stock");
   const ProgressSlice ps(progress);
   PocketResult res;
   const double lift = section_lift(p);

@@ -54,6 +54,7 @@ struct TreeOptions {
   double radius = 0.0;   // tool radius r
   double cov_tol = 0.0;  // coverage slack: material thinner than 2 cov_tol is ignored
   double snap = 0.0;
+  double max_segments = 1e300;  // the tree's loops may hold at most this many segments
 };
 
 // Builds the tree: roots = the region shrunk by r, then each node shrunk by
@@ -81,6 +82,7 @@ struct OrderOptions {
   // Start points may only be the end points of segments (the sculptured
   // floor's loops are cut from a vertex of their CL polyline).
   bool vertices_only = false;
+  ProgressSlice progress;  // polled for a cancel at every node
 };
 
 // Cutting order (section 2.3): deepest profile first, climbing to the

@@ -109,10 +109,31 @@ class Orderer {
     return b;
   }
 
-  int height(int id) const {
-    int h = 0;
-    for (int c : node(id).children) h = std::max(h, 1 + height(c));
+  // Subtree heights of all nodes, without recursion (a tree can be tens of
+  // thousands of levels deep: a tiny stepover on a large face). A node's
+  // children come after it in tree_.nodes (the tree is built breadth first),
+  // but the order is not relied on: nodes are finished from a post-order.
+  std::vector<int> subtree_heights() const {
+    std::vector<int> h(tree_.nodes.size(), 0);
+    std::vector<int> order;
+    order.reserve(tree_.nodes.size());
+    std::vector<int> stack(tree_.roots.begin(), tree_.roots.end());
+    while (!stack.empty()) {
+      const int id = stack.back();
+      stack.pop_back();
+      order.push_back(id);
+      for (int c : node(id).children) stack.push_back(c);
+    }
+    for (auto it = order.rbegin(); it != order.rend(); ++it)
+      for (int c : node(*it).children)
+        h[static_cast<std::size_t>(*it)] =
+            std::max(h[static_cast<std::size_t>(*it)], 1 + h[static_cast<std::size_t>(c)]);
     return h;
+  }
+
+  int height(int id) const {
+    if (heights_.empty()) heights_ = subtree_heights();
+    return heights_[static_cast<std::size_t>(id)];
   }
 
   // The node among `ids` to go to next: nearest to the tool, or at the very
@@ -131,14 +152,34 @@ class Orderer {
     return best;
   }
 
-  void visit(int id) {
-    std::vector<int> children = node(id).children;
-    while (!children.empty()) {
-      const std::size_t k = pick(children);
-      const int c = children[k];
-      children.erase(children.begin() + static_cast<std::ptrdiff_t>(k));
-      visit(c);
+  // Depth first: the children of a node (nearest to the tool first, each
+  // with its whole subtree) before the node itself. An explicit stack, not
+  // recursion, for the same reason as subtree_heights().
+  void visit(int root) {
+    struct Frame {
+      int id;
+      std::vector<int> todo;
+    };
+    std::vector<Frame> stack;
+    stack.push_back({root, node(root).children});
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      if (!f.todo.empty()) {
+        const std::size_t k = pick(f.todo);
+        const int c = f.todo[k];
+        f.todo.erase(f.todo.begin() + static_cast<std::ptrdiff_t>(k));
+        stack.push_back({c, node(c).children});  // f is not used after this
+        continue;
+      }
+      const int id = f.id;
+      stack.pop_back();
+      cut_node(id);
     }
+  }
+
+  // Cuts the loops of one node, nearest to the tool first.
+  void cut_node(int id) {
+    opt_.progress.check();
     const TreeNode& n = node(id);
     std::vector<int> todo(n.loops.size());
     for (std::size_t i = 0; i < todo.size(); ++i) todo[i] = static_cast<int>(i);
@@ -224,6 +265,7 @@ class Orderer {
   std::vector<LoopCut> cuts_;
   bool have_pos_ = false;
   P2 pos_;
+  mutable std::vector<int> heights_;
 };
 
 }  // namespace

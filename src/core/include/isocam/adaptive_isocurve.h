@@ -29,6 +29,7 @@
 
 #include "isocam/progress.h"
 #include "isocam/toolpath.h"
+#include "isocam/work_budget.h"
 
 namespace isocam {
 
@@ -75,6 +76,10 @@ struct IsoParams {
   bool protect_unpicked_faces = true;
   int threads = 0;                // faces computed in parallel; 0: one per core
   double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
+  // The work budget: a job whose estimated number of moves (from the faces'
+  // area, the stepover and the chord length the chord tolerance allows)
+  // exceeds it is refused before the work (isocam/work_budget.h).
+  double max_moves = kDefaultMaxMoves;
 };
 
 // One sub-isocurve: on face `face`, the curve of constant `level` in the
@@ -150,9 +155,11 @@ struct IsoResult {
 //    the pattern's weakness (the paper's Figure 3b); `guaranteed_scallop` is
 //    the flat-ground scallop of that spacing (at most the ball radius).
 
-// delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2).
+// delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2); r finite
+// and > 0, 0 < h <= r, else InvalidArgument.
 double stepover_for_scallop(double ball_radius, double scallop_height);
-// Inverse: flat-ground scallop height left by adjacent curves delta apart.
+// Inverse: flat-ground scallop height left by adjacent curves delta apart;
+// r finite and > 0, 0 <= delta <= 2 r, else InvalidArgument.
 double scallop_for_stepover(double ball_radius, double delta);
 
 // Throws InvalidArgument for bad parameters, an out-of-range or duplicate

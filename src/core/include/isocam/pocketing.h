@@ -32,6 +32,7 @@
 
 #include "isocam/profile2d.h"
 #include "isocam/progress.h"
+#include "isocam/work_budget.h"
 
 namespace isocam {
 
@@ -72,6 +73,11 @@ struct PocketParams {
   CutDirection direction = CutDirection::Climb;
   double safe_z = 10.0;         // tool-tip z for retracts
   double min_arc_chord = 0.05;  // mm: arcs with a shorter chord are output as G1
+  // The work budget: a job whose estimated number of moves (the region's
+  // area / stepover, at the region's own segments per length, times the
+  // levels) exceeds it is refused before the work; the offset tree and the
+  // path are held to it while they grow (isocam/work_budget.h).
+  double max_moves = kDefaultMaxMoves;
 };
 
 struct PocketMetrics {

@@ -1,0 +1,27 @@
+// Checks of an adaptive isocurve job against the limits of
+// isocam/work_budget.h, before any work.
+#pragma once
+
+#include <vector>
+
+#include <TopoDS_Face.hxx>
+
+#include "isocam/adaptive_isocurve.h"
+
+namespace isocam {
+
+// Sizes that no job needs: ball_radius <= 1e5 mm, |safe_z| <= 1e6 mm,
+// max_moves >= 1. Throws InvalidArgument naming the argument and value.
+void check_job_limits(const IsoParams& p);
+
+// The chord tolerance and scallop height against the extent of the model
+// (all its faces), then the estimated number of moves against max_moves:
+// the picked faces' area / (2 delta) (the curvature bound spaces curves up
+// to 2 delta apart) is the length of the passes, and a chord of an offset
+// curve of radius rho within the chord tolerance eps is at most
+// sqrt(8 eps rho) long, rho at most the model's extent plus r. So the
+// estimate is a lower bound of the path's moves, up to the area.
+void check_job_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces,
+                      const IsoParams& p, double delta);
+
+}  // namespace isocam
