@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "finishing/coverage.h"
 #include "toolpath/linearize.h"
@@ -17,24 +18,30 @@ namespace {
 std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, const IsoParams& params,
                               const ClearanceModel& model, double clearance) {
   std::vector<gp_Pnt> link;
+  // The middle first: a link that is not clear mostly crosses something (a
+  // valley, another face) away from its ends, which were cut clear; one
+  // point query refuses it before it is linearised.
   if (a.grid && a.grid == b.grid) {
     const PatchGrid& g = *a.grid;
     const double r = params.ball_radius;
     const double t0 = a.t.back(), v0 = a.level, t1 = b.t.front(), v1 = b.level;
-    link = linearize(
-        [&](double s) {
-          const double t = t0 + (t1 - t0) * s, v = v0 + (v1 - v0) * s;
-          const SurfaceDerivs d = g.d1(t, v);
-          return d.p.Translated(g.normal(t, v, &d) * r);
-        },
-        0.0, 1.0, params.chord_tolerance, {}, 2);
+    auto centre = [&](double s) {
+      const double t = t0 + (t1 - t0) * s, v = v0 + (v1 - v0) * s;
+      const SurfaceDerivs d = g.d1(t, v);
+      return d.p.Translated(g.normal(t, v, &d) * r);
+    };
+    if (!model.clear(centre(0.5), clearance)) return {};
+    link = linearize(centre, 0.0, 1.0, params.chord_tolerance, {}, 2);
     link.front() = a.pts.back();
     link.back() = b.pts.front();
   } else {
     link = {a.pts.back(), b.pts.front()};
+    if (!model.clear(link[0].Translated(0.5 * gp_Vec(link[0], link[1])), clearance)) return {};
   }
-  for (std::size_t k = 1; k < link.size(); ++k)
-    if (!model.clear(link[k - 1], link[k], clearance)) return {};
+  std::vector<char> ok(link.size(), 0);
+  model.clear_polyline(link.data(), link.size(), clearance, ok.data());
+  for (std::size_t k = 0; k + 1 < link.size(); ++k)
+    if (!ok[k]) return {};
   return link;
 }
 
@@ -44,6 +51,88 @@ struct Candidate {
   bool reversed;
 };
 
+double polyline_length(const std::vector<gp_Pnt>& pts) {
+  double s = 0;
+  for (std::size_t k = 1; k < pts.size(); ++k) s += pts[k - 1].Distance(pts[k]);
+  return s;
+}
+
+// The air moves between two ball centres a and b (or from the safe height
+// when a is null): ball centres up, across, down (rapids) to the approach
+// point, then the fed entry from there to b. Times in minutes.
+struct Hop {
+  double top = 0.0;  // centre height of the move across
+  gp_Pnt approach;   // where the fed entry starts (the descent's end)
+  double time = 0.0; // estimated at the rates of the params
+};
+
+class AirMoves {
+ public:
+  AirMoves(const IsoParams& p, const ClearanceModel& model)
+      : p_(p), model_(model), safe_c_(p.safe_z + p.ball_radius),
+        cut_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)),
+        air_(model.query_distance(p.ball_radius + p.air_clearance)) {}
+
+  double cutting_clearance() const { return cut_; }
+
+  // Rapids keep r + air_clearance from the model (the move across, the
+  // descent); the lift from a cutting position and the fed entry keep the
+  // cutting clearance. The move across: the lowest of the heights
+  // max(a.z, approach.z) + air_clearance x 2^k found clear, else the safe
+  // height (which the caller checked to be above the path; not queried).
+  // The approach: air_clearance x 2^k above b, or, where that is not clear
+  // (b on a steep wall), air_clearance out along the surface normal `n` at
+  // b (if given) and as much higher.
+  Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n) const {
+    Hop h;
+    h.top = safe_c_;
+    const double air = p_.air_clearance;
+    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
+    const bool out = n && model_.clear(b.Translated(*n * air), air_) && !model_.clear(above, air_);
+    const gp_Pnt first = out ? b.Translated(*n * air) : above;
+    const double base = a ? std::max(a->Z(), first.Z()) : first.Z();
+    for (int k = 0; a && k < 12; ++k) {
+      const double z = base + air * double(1 << k);
+      if (z >= safe_c_) break;
+      if (!model_.clear(up(*a, z), up(first, z), air_)) continue;
+      // The lift from the cutting position keeps the cutting clearance;
+      // where it does not (an overhang), the safe height, as FreeCAD's own
+      // ops retract.
+      if (model_.clear(*a, up(*a, z), cut_)) h.top = z;
+      break;
+    }
+    // The descent: rapid to the approach point, lowest first.
+    h.approach = up(first, h.top);
+    for (int k = 0; k < 12; ++k) {
+      const gp_Pnt e = first.Translated(gp_Vec(0, 0, air * double((1 << k) - 1)));
+      if (e.Z() >= h.top) break;
+      if (model_.clear(e, up(first, h.top), air_) && model_.clear(e, b, cut_)) {
+        h.approach = e;
+        break;
+      }
+    }
+    if (h.approach.Z() >= h.top) h.approach = up(b, h.top);  // fed all the way down
+    const double across = a ? std::hypot(h.approach.X() - a->X(), h.approach.Y() - a->Y()) : 0.0;
+    const double rapid = (a ? h.top - a->Z() : 0.0) + across + (h.top - h.approach.Z());
+    h.time = rapid / p_.rapid_rate + h.approach.Distance(b) / p_.plunge_rate;
+    return h;
+  }
+
+ private:
+  static gp_Pnt up(const gp_Pnt& p, double z) { return gp_Pnt(p.X(), p.Y(), z); }
+  const IsoParams& p_;
+  const ClearanceModel& model_;
+  double safe_c_, cut_, air_;
+};
+
+// The surface normal at the start of a piece (none without a grid).
+std::optional<gp_Vec> start_normal(const CutPiece& p) {
+  if (!p.grid) return std::nullopt;
+  const double t = p.t.front();
+  const SurfaceDerivs d = p.grid->d1(t, p.level);
+  return p.grid->normal(t, p.level, &d);
+}
+
 }  // namespace
 
 Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
@@ -51,13 +140,17 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   Toolpath path;
   if (pieces.empty()) return path;
   const double r = params.ball_radius, safe = params.safe_z;
-  const double clearance =
-      model.query_distance(r - params.chord_tolerance - params.gouge_tolerance);
-  const double max_link = 4.0 * r;
+  const AirMoves air(params, model);
+  const double clearance = air.cutting_clearance();
+  const double max_link = 8.0 * r;
   auto tip = [&](MoveKind k, const gp_Pnt& p) { path.add(k, p.X(), p.Y(), p.Z() - r); };
-  auto enter = [&](const CutPiece& p) {
-    if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
-    path.add(MoveKind::Rapid, p.pts.front().X(), p.pts.front().Y(), safe);
+  // Air moves from the current centre (none: the start) to the first point
+  // of p by `h`.
+  auto enter = [&](const CutPiece& p, const Hop& h) {
+    const gp_Pnt& e = h.approach;
+    if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), h.top - r);
+    path.add(MoveKind::Rapid, e.X(), e.Y(), h.top - r);
+    if (e.Z() < h.top) tip(MoveKind::Rapid, e);
     tip(MoveKind::Plunge, p.pts.front());
   };
   auto cut = [&](const CutPiece& p) {
@@ -67,11 +160,13 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   std::vector<char> used(pieces.size(), 0);
   std::size_t cur = 0;
   used[0] = 1;
-  enter(pieces[0]);
+  const std::optional<gp_Vec> n0 = start_normal(pieces[0]);
+  enter(pieces[0], air.plan(nullptr, pieces[0].pts.front(), n0 ? &*n0 : nullptr));
   cut(pieces[0]);
   std::vector<Candidate> cands;
+  std::optional<gp_Vec> n_next;
   for (std::size_t step = 1; step < pieces.size(); ++step) {
-    const gp_Pnt& end = pieces[cur].pts.back();
+    const gp_Pnt end = pieces[cur].pts.back();
     cands.clear();
     for (std::size_t j = 0; j < pieces.size(); ++j) {
       if (used[j]) continue;
@@ -86,22 +181,41 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
                         if (x.piece != y.piece) return x.piece < y.piece;
                         return x.reversed < y.reversed;
                       });
+    const Candidate nearest = cands.front();
+    auto start_of = [&](const Candidate& c) -> const gp_Pnt& {
+      const CutPiece& q = pieces[c.piece];
+      return c.reversed ? q.pts.back() : q.pts.front();
+    };
+    // A feed link where it is clear and faster than the hop to the nearest
+    // piece (a few queries: planned first).
+    {
+      CutPiece& q = pieces[nearest.piece];
+      if (nearest.reversed) q.reverse();
+      n_next = start_normal(q);
+      if (nearest.reversed) q.reverse();
+    }
+    const Hop hop = air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr);
     std::vector<gp_Pnt> link;
-    Candidate chosen = cands.front();
+    Candidate chosen = nearest;
     for (std::size_t k = 0; k < tries && cands[k].distance <= max_link; ++k) {
+      if (cands[k].distance / params.feed_rate >= hop.time) break;
       CutPiece& next = pieces[cands[k].piece];
       if (cands[k].reversed) next.reverse();
       link = feed_link(pieces[cur], next, params, model, clearance);
       if (cands[k].reversed) next.reverse();
-      if (!link.empty()) {
-        chosen = cands[k];
+      if (link.empty()) continue;
+      const double t = polyline_length(link) / params.feed_rate;
+      if (t >= hop.time) {
+        link.clear();
         break;
       }
+      chosen = cands[k];
+      break;
     }
     CutPiece& next = pieces[chosen.piece];
     if (chosen.reversed) next.reverse();
     if (link.empty()) {
-      enter(next);
+      enter(next, hop);
     } else {
       for (std::size_t k = 1; k < link.size(); ++k) tip(MoveKind::Feed, link[k]);
     }

@@ -29,4 +29,14 @@ PathLengths measure(const Toolpath& path) {
   return m;
 }
 
+PathTimes estimate_time(const Toolpath& path, double feed, double plunge, double rapid) {
+  const PathLengths len = measure(path);
+  PathTimes t;
+  t.feed = 60.0 * len.feed / feed;
+  t.plunge = 60.0 * len.plunge / plunge;
+  t.rapid = 60.0 * len.rapid / rapid;
+  t.total = t.feed + t.plunge + t.rapid;
+  return t;
+}
+
 }  // namespace isocam

@@ -41,4 +41,16 @@ struct PathLengths {
 };
 PathLengths measure(const Toolpath& path);
 
+// Time estimate (s) at constant rates (mm/min), no acceleration: rapids at
+// `rapid`, feed moves at `feed`, plunges (fed vertical entries) at
+// `plunge`; the first move is not counted (as in measure()). `feed` is the
+// feed moves' share.
+struct PathTimes {
+  double total = 0.0;
+  double feed = 0.0;
+  double plunge = 0.0;
+  double rapid = 0.0;
+};
+PathTimes estimate_time(const Toolpath& path, double feed, double plunge, double rapid);
+
 }  // namespace isocam
