@@ -89,7 +89,7 @@ class PreferenceDefaults(unittest.TestCase):
             op, OP, adaptive_isocurve.SetupProperties(), self.setup.job
         )
         self.assertEqual(sorted(applied), ["ChordTolerance", "Direction"])
-        self.assertAlmostEqual(op.ChordTolerance.Value, 0.02)
+        self.assertAlmostEqual(op.ChordTolerance.Value, 0.002)
         self.assertEqual(op.Direction, "V")
         self.assertAlmostEqual(op.ScallopHeight.Value, 0.05)  # the sheet's
 

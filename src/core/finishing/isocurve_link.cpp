@@ -4,27 +4,34 @@
 #include <limits>
 #include <optional>
 
+#include <thread>
+
 #include "finishing/coverage.h"
+#include "finishing/task_pool.h"
 #include "toolpath/linearize.h"
 
 namespace isocam {
 namespace {
 
-// A feed link from the end of `a` to the start of `b`, or an empty vector if
-// none keeps the ball clear of the model. Between pieces of one face the
+// A feed link from the end of `a` to the start of `b` (its end if
+// `b_reversed`), or an empty vector if none keeps the ball clear of the
+// model. Between pieces of one face the
 // link follows the offset surface along the straight parameter segment (the
 // ball stays tangent to the face); otherwise (other faces, or pieces with
 // no grid such as parallel-plane curves) it is a straight move.
-std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, const IsoParams& params,
-                              const ClearanceModel& model, double clearance) {
+std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, bool b_reversed,
+                              const IsoParams& params, const ClearanceModel& model,
+                              double clearance) {
   std::vector<gp_Pnt> link;
+  const gp_Pnt& b_start = b_reversed ? b.pts.back() : b.pts.front();
+  const double b_t = b_reversed ? b.t.back() : b.t.front();
   // The middle first: a link that is not clear mostly crosses something (a
   // valley, another face) away from its ends, which were cut clear; one
   // point query refuses it before it is linearised.
   if (a.grid && a.grid == b.grid) {
     const PatchGrid& g = *a.grid;
     const double r = params.ball_radius;
-    const double t0 = a.t.back(), v0 = a.level, t1 = b.t.front(), v1 = b.level;
+    const double t0 = a.t.back(), v0 = a.level, t1 = b_t, v1 = b.level;
     auto centre = [&](double s) {
       const double t = t0 + (t1 - t0) * s, v = v0 + (v1 - v0) * s;
       const SurfaceDerivs d = g.d1(t, v);
@@ -33,9 +40,9 @@ std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, const IsoPar
     if (!model.clear(centre(0.5), clearance)) return {};
     link = linearize(centre, 0.0, 1.0, params.chord_tolerance, {}, 2);
     link.front() = a.pts.back();
-    link.back() = b.pts.front();
+    link.back() = b_start;
   } else {
-    link = {a.pts.back(), b.pts.front()};
+    link = {a.pts.back(), b_start};
     if (!model.clear(link[0].Translated(0.5 * gp_Vec(link[0], link[1])), clearance)) return {};
   }
   std::vector<char> ok(link.size(), 0);
@@ -165,6 +172,9 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   cut(pieces[0]);
   std::vector<Candidate> cands;
   std::optional<gp_Vec> n_next;
+  const std::size_t batch =
+      params.threads > 0 ? std::size_t(params.threads)
+                         : std::max<std::size_t>(1, std::thread::hardware_concurrency());
   for (std::size_t step = 1; step < pieces.size(); ++step) {
     const gp_Pnt end = pieces[cur].pts.back();
     cands.clear();
@@ -195,22 +205,31 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
       if (nearest.reversed) q.reverse();
     }
     const Hop hop = air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr);
+    // The candidates a link might be faster than the hop to, tried in
+    // order, a batch of them (one per thread) at a time: the first clear
+    // one in order is taken (or the hop, if it is faster), whatever the
+    // number of threads.
+    std::vector<std::size_t> worth;
+    for (std::size_t k = 0; k < tries && cands[k].distance <= max_link; ++k)
+      if (cands[k].distance / params.feed_rate < hop.time) worth.push_back(k);
+    std::vector<std::vector<gp_Pnt>> tried(worth.size());
     std::vector<gp_Pnt> link;
     Candidate chosen = nearest;
-    for (std::size_t k = 0; k < tries && cands[k].distance <= max_link; ++k) {
-      if (cands[k].distance / params.feed_rate >= hop.time) break;
-      CutPiece& next = pieces[cands[k].piece];
-      if (cands[k].reversed) next.reverse();
-      link = feed_link(pieces[cur], next, params, model, clearance);
-      if (cands[k].reversed) next.reverse();
-      if (link.empty()) continue;
-      const double t = polyline_length(link) / params.feed_rate;
-      if (t >= hop.time) {
-        link.clear();
-        break;
+    bool decided = false;
+    for (std::size_t k0 = 0; k0 < worth.size() && !decided; k0 += batch) {
+      const std::size_t k1 = std::min(worth.size(), k0 + batch);
+      for_each_index(k1 - k0, params.threads, [&](std::size_t i) {
+        const Candidate& c = cands[worth[k0 + i]];
+        tried[k0 + i] = feed_link(pieces[cur], pieces[c.piece], c.reversed, params, model, clearance);
+      });
+      for (std::size_t k = k0; k < k1 && !decided; ++k) {
+        if (tried[k].empty()) continue;
+        decided = true;
+        if (polyline_length(tried[k]) / params.feed_rate < hop.time) {
+          link = std::move(tried[k]);
+          chosen = cands[worth[k]];
+        }
       }
-      chosen = cands[k];
-      break;
     }
     CutPiece& next = pieces[chosen.piece];
     if (chosen.reversed) next.reverse();
