@@ -78,9 +78,10 @@ _INPUTS = (
         "ScallopBound",
         "Adaptive Isocurve",
         "Curvature: the stepover follows the curvature across the feed, so the "
-        "scallop stays under ScallopHeight on convex ground too. Flat: the "
-        "paper's flat-ground stepover everywhere (higher cusps on convex ground; "
-        "the certificate then says how high).",
+        "scallop stays under ScallopHeight on convex ground too and widens "
+        "on concave ground. Flat: the paper's flat-ground stepover, never "
+        "wider, narrowed as Curvature on convex ground. Both keep "
+        "GuaranteedScallop <= ScallopHeight.",
         "Curvature",
     ),
     (

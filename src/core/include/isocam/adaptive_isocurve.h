@@ -36,8 +36,9 @@
 //   guaranteed_overcut = c + g + p <= overcut_tolerance.
 // c is derived unless overridden: c = min(overcut_tolerance - g - p,
 // (scallop_height - p) / 4); an override must fit both budgets. Rapid moves
-// keep air_clearance + r from the model, fed entries and vertical moves the
-// cutting clearance. Not covered: faces listed in `warnings` as not
+// keep air_clearance + r from the whole model, but a lift straight up from
+// a cutting position, which keeps the cutting clearance r - c - g as the fed
+// entries do (finishing/coverage.h, link_pieces()). Not covered: faces listed in `warnings` as not
 // protected, and the length reported as unreachable (material left there).
 #pragma once
 
@@ -73,9 +74,10 @@ enum class IsoPlaneAxis {
   Y,     // planes y = const (the passes run along x)
 };
 
+// Both keep guaranteed_scallop <= scallop_height.
 enum class IsoScallopBound {
-  Flat,       // the paper's: delta for flat ground everywhere
-  Curvature,  // delta per patch from the curvature across the feed
+  Flat,       // the paper's flat-ground delta, narrowed as Curvature's on convex ground
+  Curvature,  // delta per patch from the curvature across the feed (up to 2 x flat)
 };
 
 struct IsoParams {
