@@ -159,7 +159,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("t1", &SubIsocurve::t1);
 
   py::class_<PyIsoResult>(m, "IsoResult")
-      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge")
+      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge, 5 ramp")
       .def_readonly("xyz", &PyIsoResult::xyz, "float64 (N,3): move end points, tool tip, mm")
       .def_readonly("metrics", &PyIsoResult::metrics)
       .def_readonly("face_direction", &PyIsoResult::face_direction)
@@ -170,6 +170,7 @@ PYBIND11_MODULE(isocam_core, m) {
   m.attr("RAPID") = 0;
   m.attr("FEED") = 1;
   m.attr("PLUNGE") = 2;
+  m.attr("RAMP") = 5;
 
   m.def("stepover_for_scallop", &stepover_for_scallop, py::arg("ball_radius"),
         py::arg("scallop_height"), "Flat-ground stepover delta = 2 sqrt(2 r h - h^2)");

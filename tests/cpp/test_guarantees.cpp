@@ -188,7 +188,7 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
     const gp_Pnt a = centre(t, i - 1, r), b = centre(t, i, r);
     const bool vertical = std::abs(a.X() - b.X()) + std::abs(a.Y() - b.Y()) < 1e-12;
     const auto kind = static_cast<MoveKind>(t.kind[i]);
-    if (kind == MoveKind::Plunge) {
+    if (kind == MoveKind::Plunge || kind == MoveKind::Ramp) {
       ++entries;
       EXPECT_EQ(t.kind[i - 1], static_cast<std::uint8_t>(MoveKind::Rapid)) << "move " << i;
       worst_entry = std::min(worst_entry, segment_clearance(model, a, b, 0.05));
@@ -221,6 +221,7 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
     const double len = centre(t, i - 1, r).Distance(centre(t, i, r));
     if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Rapid)) air_minutes += len / p.rapid_rate;
     if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Plunge)) air_minutes += len / p.plunge_rate;
+    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Ramp)) air_minutes += len / p.feed_rate;
   }
   std::cout << c.name << ": " << lifts << " hops (" << low_lifts << " below the safe height), "
             << entries << " entries; clearance of rapids " << worst_rapid << " (r + air "
@@ -243,7 +244,8 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
   // The estimate adds the moves up at the rates.
   const PathLengths len = measure(t);
   EXPECT_NEAR(res.metrics.machine_time,
-              60 * (len.feed / p.feed_rate + len.plunge / p.plunge_rate + len.rapid / p.rapid_rate),
+              60 * ((len.feed + len.ramp) / p.feed_rate + len.plunge / p.plunge_rate +
+                    len.rapid / p.rapid_rate),
               1e-9 * res.metrics.machine_time);
   EXPECT_NEAR(res.metrics.cutting_time, 60 * len.feed / p.feed_rate, 1e-9 * res.metrics.cutting_time);
 }

@@ -74,7 +74,7 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         x0, y0 = res.xyz[0][0], res.xyz[0][1]
         self.assertAlmostEqual(res.xyz[0][2], safe, delta=COORD_TOL)
         expected = [("G0", {"Z": clear}), ("G0", {"X": x0, "Y": y0, "Z": clear})]
-        feed = {0: None, 1: tc.HorizFeed.Value, 2: tc.VertFeed.Value}
+        feed = {0: None, 1: tc.HorizFeed.Value, 2: tc.VertFeed.Value, 5: tc.HorizFeed.Value}
         for k, (x, y, z) in zip(res.kind.tolist(), res.xyz.tolist()):
             params = {"X": x, "Y": y, "Z": z}
             if feed[k] is not None:
@@ -202,7 +202,9 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         _, x0, y0, _ = support.path_points(op.Path)[2]
         _, px, py, pz = support.path_points(op.Path)[3]
         _, qx, qy, qz = support.path_points(op.Path)[4]
-        # Down at rapid to near the surface, then the entry fed at VertFeed.
+        # Down at rapid to near the surface, then the entry fed (a plunge at
+        # VertFeed, or a ramp along the pass at HorizFeed).
+        entry_feed = op.Path.Commands[5].Parameters["F"] * 60
         self.assertEqual(
             lines[start + 1 : start + 6],
             [
@@ -210,7 +212,7 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
                 "G0 X%.3f Y%.3f Z%.3f" % (x0, y0, clear),
                 "G0 X%.3f Y%.3f Z%.3f" % (x0, y0, safe),
                 "G0 X%.3f Y%.3f Z%.3f" % (px, py, pz),
-                "G1 X%.3f Y%.3f Z%.3f F%.3f" % (qx, qy, qz, tc.VertFeed.Value * 60),
+                "G1 X%.3f Y%.3f Z%.3f F%.3f" % (qx, qy, qz, entry_feed),
             ],
         )
 

@@ -46,7 +46,7 @@ class Binding(unittest.TestCase):
         self.assertEqual(xyz.shape, (len(kind), 3))
         self.assertTrue(xyz.flags["C_CONTIGUOUS"])
         self.assertTrue(
-            set(np.unique(kind)).issubset({core.RAPID, core.FEED, core.PLUNGE})
+            set(np.unique(kind)).issubset({core.RAPID, core.FEED, core.PLUNGE, core.RAMP})
         )
 
     def test_metrics_agree_with_the_arrays(self):
@@ -60,9 +60,9 @@ class Binding(unittest.TestCase):
             seg[kind[1:] == core.RAPID].sum(), m.rapid_length, delta=1e-6
         )
         self.assertAlmostEqual(
-            seg[kind[1:] == core.PLUNGE].sum(), m.plunge_length, delta=1e-6
+            seg[(kind[1:] == core.PLUNGE) | (kind[1:] == core.RAMP)].sum(), m.plunge_length, delta=1e-6
         )
-        self.assertEqual(int((kind == core.PLUNGE).sum()), m.retracts)
+        self.assertEqual(int(((kind == core.PLUNGE) | (kind == core.RAMP)).sum()), m.retracts)
         self.assertLessEqual(m.max_iso_distance, m.delta_max)
         self.assertLessEqual(m.guaranteed_scallop, 0.05)
         self.assertAlmostEqual(

@@ -334,7 +334,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const PathLengths len = measure(result.path);
   result.metrics.cutting_length = len.feed;
   result.metrics.rapid_length = len.rapid;
-  result.metrics.plunge_length = len.plunge;
+  result.metrics.plunge_length = len.plunge + len.ramp;
   result.metrics.retracts = len.retracts;
   result.metrics.max_iso_distance = max_dist;
   result.metrics.guaranteed_scallop = max_scallop;

@@ -70,6 +70,7 @@ double polyline_length(const std::vector<gp_Pnt>& pts) {
 struct Hop {
   double top = 0.0;  // centre height of the move across
   gp_Pnt approach;   // where the fed entry starts (the descent's end)
+  bool ramp = false; // the entry is a ramp (at the horizontal feed), not a plunge
   double time = 0.0; // estimated at the rates of the params
 };
 
@@ -87,16 +88,27 @@ class AirMoves {
   // cutting clearance. The move across: the lowest of the heights
   // max(a.z, approach.z) + air_clearance x 2^k found clear, else the safe
   // height (which the caller checked to be above the path; not queried).
-  // The approach: air_clearance x 2^k above b, or, where that is not clear
-  // (b on a steep wall), air_clearance out along the surface normal `n` at
-  // b (if given) and as much higher.
-  Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n) const {
+  // The approach, the first of these that is r + air_clearance clear:
+  // a ramp down to b along the pass (`dir`, horizontal, if given) from
+  // air_clearance back and as much above it, fed at the horizontal feed
+  // (three times the vertical one); air_clearance above b; air_clearance
+  // out along the surface normal `n` at b (a steep wall); each raised by
+  // air_clearance x (2^k - 1) until the descent to it is as clear.
+  Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
     Hop h;
     h.top = safe_c_;
     const double air = p_.air_clearance;
     const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
-    const bool out = n && model_.clear(b.Translated(*n * air), air_) && !model_.clear(above, air_);
-    const gp_Pnt first = out ? b.Translated(*n * air) : above;
+    gp_Pnt first = above;
+    if (dir) {
+      const gp_Pnt back = above.Translated(*dir * -air);
+      if (model_.clear(back, air_) && model_.clear(back, b, cut_)) {
+        first = back;
+        h.ramp = true;
+      }
+    }
+    if (!h.ramp && n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
+      first = b.Translated(*n * air);
     const double base = a ? std::max(a->Z(), first.Z()) : first.Z();
     for (int k = 0; a && k < 12; ++k) {
       const double z = base + air * double(1 << k);
@@ -118,10 +130,14 @@ class AirMoves {
         break;
       }
     }
-    if (h.approach.Z() >= h.top) h.approach = up(b, h.top);  // fed all the way down
+    if (h.approach.Z() >= h.top) {  // fed all the way down
+      h.approach = up(b, h.top);
+      h.ramp = false;
+    }
     const double across = a ? std::hypot(h.approach.X() - a->X(), h.approach.Y() - a->Y()) : 0.0;
     const double rapid = (a ? h.top - a->Z() : 0.0) + across + (h.top - h.approach.Z());
-    h.time = rapid / p_.rapid_rate + h.approach.Distance(b) / p_.plunge_rate;
+    h.time = rapid / p_.rapid_rate +
+             h.approach.Distance(b) / (h.ramp ? p_.feed_rate : p_.plunge_rate);
     return h;
   }
 
@@ -131,6 +147,15 @@ class AirMoves {
   const ClearanceModel& model_;
   double safe_c_, cut_, air_;
 };
+
+// The horizontal direction a piece starts in (none if it starts vertically).
+std::optional<gp_Vec> start_direction(const CutPiece& p) {
+  if (p.pts.size() < 2) return std::nullopt;
+  gp_Vec d(p.pts[0], p.pts[1]);
+  d.SetZ(0.0);
+  if (d.Magnitude() < 1e-9) return std::nullopt;
+  return d.Normalized();
+}
 
 // The surface normal at the start of a piece (none without a grid).
 std::optional<gp_Vec> start_normal(const CutPiece& p) {
@@ -158,7 +183,7 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
     if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), h.top - r);
     path.add(MoveKind::Rapid, e.X(), e.Y(), h.top - r);
     if (e.Z() < h.top) tip(MoveKind::Rapid, e);
-    tip(MoveKind::Plunge, p.pts.front());
+    tip(h.ramp ? MoveKind::Ramp : MoveKind::Plunge, p.pts.front());
   };
   auto cut = [&](const CutPiece& p) {
     for (std::size_t k = 1; k < p.pts.size(); ++k) tip(MoveKind::Feed, p.pts[k]);
@@ -167,11 +192,12 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   std::vector<char> used(pieces.size(), 0);
   std::size_t cur = 0;
   used[0] = 1;
-  const std::optional<gp_Vec> n0 = start_normal(pieces[0]);
-  enter(pieces[0], air.plan(nullptr, pieces[0].pts.front(), n0 ? &*n0 : nullptr));
+  const std::optional<gp_Vec> n0 = start_normal(pieces[0]), d0 = start_direction(pieces[0]);
+  enter(pieces[0],
+        air.plan(nullptr, pieces[0].pts.front(), n0 ? &*n0 : nullptr, d0 ? &*d0 : nullptr));
   cut(pieces[0]);
   std::vector<Candidate> cands;
-  std::optional<gp_Vec> n_next;
+  std::optional<gp_Vec> n_next, d_next;
   const std::size_t batch =
       params.threads > 0 ? std::size_t(params.threads)
                          : std::max<std::size_t>(1, std::thread::hardware_concurrency());
@@ -202,9 +228,11 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
       CutPiece& q = pieces[nearest.piece];
       if (nearest.reversed) q.reverse();
       n_next = start_normal(q);
+      d_next = start_direction(q);
       if (nearest.reversed) q.reverse();
     }
-    const Hop hop = air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr);
+    const Hop hop = air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr,
+                             d_next ? &*d_next : nullptr);
     // The candidates a link might be faster than the hop to, tried in
     // order, a batch of them (one per thread) at a time: the first clear
     // one in order is taken (or the hop, if it is faster), whatever the

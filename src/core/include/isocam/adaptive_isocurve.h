@@ -136,9 +136,10 @@ struct IsoMetrics {
   double delta_max = 0.0;
   double cutting_length = 0.0;    // feed moves (mm)
   double rapid_length = 0.0;      // rapid moves (mm)
-  double plunge_length = 0.0;     // fed entries, at the vertical feed (mm)
+  double plunge_length = 0.0;     // fed entries: plunges (vertical feed) and ramps (mm)
   // Estimated with the rates of IsoParams (s): every move, the first (from
-  // wherever the machine is) excepted; and the feed moves alone.
+  // wherever the machine is) excepted; and the feed moves alone (the passes
+  // and the links along the surface, not the entries).
   double machine_time = 0.0;
   double cutting_time = 0.0;
   double chord_tolerance = 0.0;   // the chord tolerance used (derived or the override)
