@@ -75,13 +75,8 @@ class ParallelPlanesOnMat(unittest.TestCase):
         res = self.planes
         axis = 0 if res.plane_axis == core.IsoPlaneAxis.X else 1
         c = res.xyz[res.kind == core.FEED][:, axis]
-        # The planes are spaced for the cusp the budget leaves (the chords
-        # and the posted rounding take their share): under delta.
-        step = np.diff(np.unique(np.round(c, 9))).min()
-        self.assertLess(step, res.metrics.delta)
-        self.assertGreater(step, 0.8 * res.metrics.delta)
-        k = (c - c.min()) / step
-        self.assertLess(np.abs(k - np.round(k)).max() * step, 1e-6)
+        k = (c - c.min()) / res.metrics.delta
+        self.assertLess(np.abs(k - np.round(k)).max() * res.metrics.delta, 1e-9)
 
     def test_planes_are_too_sparse_on_steep_walls(self):
         # Figure 3b: same h, fewer and sparser passes than the adaptive path.

@@ -180,7 +180,9 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const std::vector<TopoDS_Face> all = faces_of(shape);
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
   check_faces(faces, all.size());
-  const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  // The flat-ground stepover for the cusp the budget leaves (stepover.h).
+  const double delta = stepover_chord_with_error(params.ball_radius, params.scallop_height, 0.0,
+                                                 budget.centre_error());
   IsoResult result;
   result.metrics.delta = delta;
   // Every picked face gets its grid and trimmed domain and is kept clear of
@@ -225,10 +227,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     std::vector<PlaneFace> plane_faces;
     for (std::size_t k : picked)
       plane_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
-    // Planes spaced for the flat-ground cusp that the budget leaves.
-    const double spacing = stepover_chord_with_error(params.ball_radius, params.scallop_height, 0.0,
-                                                     budget.centre_error());
-    PlanePieces cut = parallel_plane_pieces(plane_faces, spacing, params, model, progress);
+    PlanePieces cut = parallel_plane_pieces(plane_faces, delta, params, model, progress);
     result.plane_axis = cut.axis;
     result.face_direction.assign(picked.size(), IsoDirection::Auto);
     result.metrics.sub_isocurves = cut.curves;

@@ -130,9 +130,12 @@ class AirMoves {
         break;
       }
     }
-    if (h.approach.Z() >= h.top) {  // fed all the way down
-      h.approach = up(b, h.top);
+    if (h.approach.Z() >= h.top) {  // fed all the way down, straight above b
       h.ramp = false;
+      if (a && h.top < safe_c_ &&
+          !(model_.clear(up(*a, h.top), up(b, h.top), air_) && model_.clear(up(b, h.top), b, cut_)))
+        h.top = safe_c_;
+      h.approach = up(b, h.top);
     }
     const double across = a ? std::hypot(h.approach.X() - a->X(), h.approach.Y() - a->Y()) : 0.0;
     const double rapid = (a ? h.top - a->Z() : 0.0) + across + (h.top - h.approach.Z());

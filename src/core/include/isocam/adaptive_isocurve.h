@@ -129,7 +129,9 @@ struct SubIsocurve {
 };
 
 struct IsoMetrics {
-  double delta = 0.0;             // the flat-ground iso-distance tolerance
+  // The flat-ground iso-distance tolerance: the stepover whose cusp is what
+  // the budget leaves, e + cusp(r - e) = scallop_height (e = chord + posted).
+  double delta = 0.0;
   // The largest tolerance used on any patch (the curvature bound allows up
   // to 2 delta on concave ground, less than delta on convex ground): the
   // delta of Definition 1 that the coverage meets everywhere.
