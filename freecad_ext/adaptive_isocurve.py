@@ -25,10 +25,12 @@ recompute is aborted and the op keeps its previous path and certificate,
 marked to be recomputed (freecad_ext/gui/progress.py).
 """
 
+import math
 import threading
 import time
 
 import FreeCAD
+import Path
 
 from freecad_ext import compat, op_base
 from freecad_ext.compat import PathOp
@@ -76,9 +78,10 @@ _INPUTS = (
         "ScallopBound",
         "Adaptive Isocurve",
         "Curvature: the stepover follows the curvature across the feed, so the "
-        "scallop stays under ScallopHeight on convex ground too. Flat: the "
-        "paper's flat-ground stepover everywhere (higher cusps on convex ground; "
-        "the certificate then says how high).",
+        "scallop stays under ScallopHeight on convex ground too and widens "
+        "on concave ground. Flat: the paper's flat-ground stepover, never "
+        "wider, narrowed as Curvature on convex ground. Both keep "
+        "GuaranteedScallop <= ScallopHeight.",
         "Curvature",
     ),
     (
@@ -101,10 +104,45 @@ _INPUTS = (
     ),
     (
         "App::PropertyLength",
+        "OvercutTolerance",
+        "Adaptive Isocurve",
+        "Deepest cut below the design allowed anywhere (chords on convex "
+        "ground, clearance check, rounding of the posted coordinates); "
+        "GuaranteedOvercut stays within it.",
+        0.005,
+    ),
+    (
+        "App::PropertyLength",
         "ChordTolerance",
         "Adaptive Isocurve",
-        "Largest distance between a pass and its linear G1 segments.",
-        0.01,
+        "Advanced: largest distance between a pass and its linear G1 segments. "
+        "0 (default): derived from ScallopHeight and OvercutTolerance; "
+        "otherwise it must fit both, and the guarantees include it.",
+        0.0,
+    ),
+    (
+        "App::PropertyInteger",
+        "PostPrecision",
+        "Adaptive Isocurve",
+        "Decimals of the coordinates the post-processor writes (linuxcnc: "
+        "--precision, default 3); the guarantees include their rounding.",
+        3,
+    ),
+    (
+        "App::PropertyLength",
+        "AirClearance",
+        "Adaptive Isocurve",
+        "Gap kept between the ball and the model by rapid moves between "
+        "passes, and the height above an entry point from which it is fed.",
+        1.0,
+    ),
+    (
+        "App::PropertyFloat",
+        "RapidRate",
+        "Adaptive Isocurve",
+        "Rapid rate of the machine in mm/min, for MachineTime and CycleTime "
+        "(and the choice between a feed link and a hop).",
+        5000.0,
     ),
 )
 
@@ -154,9 +192,37 @@ _OUTPUTS = (
         "App::PropertyLength",
         "GuaranteedScallop",
         "guaranteed_scallop",
-        "The scallop height the path guarantees: the cusp left by the largest "
-        "iso-distance of every pair of adjacent curves, on ground of the "
-        "largest curvature across the feed there",
+        "The most material left above the design where the ball reaches, "
+        "everything included: the cusp of the largest iso-distance of every "
+        "pair of adjacent curves on the largest curvature across the feed "
+        "there, for centres off the offset by the chords and the rounding of "
+        "the posted coordinates, plus that (<= ScallopHeight)",
+    ),
+    (
+        "App::PropertyLength",
+        "GuaranteedOvercut",
+        "guaranteed_overcut",
+        "The deepest cut below the design: chord tolerance + clearance check "
+        "tolerance + rounding of the posted coordinates (<= OvercutTolerance)",
+    ),
+    (
+        "App::PropertyLength",
+        "ChordToleranceUsed",
+        "chord_tolerance",
+        "The chord tolerance used (derived from the budgets, or ChordTolerance)",
+    ),
+    (
+        "App::PropertyFloat",
+        "MachineTime",
+        "machine_time",
+        "Estimated machine time (s) of this op's commands at the tool "
+        "controller's feeds and RapidRate, no acceleration (also CycleTime)",
+    ),
+    (
+        "App::PropertyFloat",
+        "CuttingTime",
+        "cutting_time",
+        "Estimated time (s) of the feed moves (passes and the links along the surface)",
     ),
     (
         "App::PropertyLength",
@@ -186,7 +252,13 @@ _OUTPUT_GROUP = "Certificate"
 # Core argument names -> what the FreeCAD user sets.
 _ARGUMENT_SOURCES = (
     ("scallop_height", "property ScallopHeight"),
+    ("overcut_tolerance", "property OvercutTolerance"),
     ("chord_tolerance", "property ChordTolerance"),
+    ("posted_resolution", "property PostPrecision"),
+    ("air_clearance", "property AirClearance"),
+    ("rapid_rate", "property RapidRate"),
+    ("feed_rate", "the tool controller's HorizFeed"),
+    ("plunge_rate", "the tool controller's VertFeed"),
     ("safe_z", "property SafeHeight"),
     ("ball_radius", "the tool controller's tool diameter / 2"),
     ("direction", "property Direction"),
@@ -223,6 +295,13 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
         results = self.compute_or_fail(obj)
         self.emit_commands(obj, results)
         metrics = _combined_metrics(results)
+        # The op's own commands (the lead-in at ClearanceHeight included),
+        # as getCycleTimeEstimate() gives FreeCAD's CycleTime.
+        # PathOp appends the retract to ClearanceHeight after opExecute.
+        final = [Path.Command("G0", {"Z": obj.ClearanceHeight.Value})]
+        metrics["machine_time"] = machine_seconds(
+            self.commandlist + final, _rapid_mm_min(obj), *_feeds_mm_min(obj)
+        )
         _write_outputs(obj, metrics, _directions_used(results))
         _print_certificate(obj, metrics, time.monotonic() - started)
         _warn_guarantee(obj, metrics)
@@ -231,6 +310,20 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
                 op_base.PathLog.warning("%s: %s" % (obj.Label, warning))
 
     # -- steps of opExecute -------------------------------------------------
+
+    def getCycleTimeEstimate(self, obj):
+        """FreeCAD's CycleTime: our estimate (MachineTime), as HH:MM:SS.
+
+        FreeCAD 0.20's Path.getCycleTime() ignores the F words and takes
+        every move that changes Z at the vertical rate, which for a 3D
+        finishing path (nearly every G1 changes Z) gives some three times
+        the real time; this estimate takes each G1 at its own F, G0 at
+        RapidRate, as the machine runs them.
+        """
+        if obj.ToolController is None:
+            return super().getCycleTimeEstimate(obj)
+        seconds = machine_seconds(obj.Path.Commands, _rapid_mm_min(obj), *_feeds_mm_min(obj))
+        return time.strftime("%H:%M:%S", time.gmtime(seconds))
 
     def _compute(self, obj, core):
         """Run the core once per model object that has picked faces."""
@@ -324,12 +417,68 @@ def _picked_faces(obj):
     return picked
 
 
+# Feeds of the machine-time estimate where the tool controller has none
+# (mm/min; the core's defaults).
+_DEFAULT_FEED, _DEFAULT_PLUNGE = 1200.0, 400.0
+
+
+def _feeds_mm_min(obj):
+    """(horizontal, vertical) feed of the tool controller in mm/min, or the
+    defaults where it has none."""
+    tc = obj.ToolController
+    h = tc.HorizFeed.Value * 60.0 if tc is not None else 0.0
+    v = tc.VertFeed.Value * 60.0 if tc is not None else 0.0
+    return (h if h > 0 else _DEFAULT_FEED, v if v > 0 else _DEFAULT_PLUNGE)
+
+
+def _rapid_mm_min(obj):
+    return float(obj.RapidRate)  # mm/min
+
+
+def machine_seconds(commands, rapid, feed, plunge):
+    """Estimated time (s) of Path commands, no acceleration: G0 at `rapid`,
+    G1/G2/G3 at their F word (mm/s, FreeCAD's unit; `feed` / `plunge` in
+    mm/min where a move has none and is horizontal / vertical), arcs by
+    their chord. The first two moves (from wherever the machine is, up and
+    across at ClearanceHeight) are not counted, as the core does not count
+    its first move."""
+    pos = None
+    total = 0.0
+    moves = 0
+    for c in commands:
+        p = c.Parameters
+        if c.Name not in ("G0", "G00", "G1", "G01", "G2", "G02", "G3", "G03"):
+            continue
+        moves += 1
+        nxt = tuple(p.get(a, pos[i] if pos else 0.0) for i, a in enumerate("XYZ"))
+        if pos is not None and moves > 2:
+            length = math.dist(pos, nxt)
+            if c.Name in ("G0", "G00"):
+                rate = rapid
+            elif p.get("F", 0.0) > 0:
+                rate = p["F"] * 60.0
+            else:
+                rate = plunge if pos[:2] == nxt[:2] else feed
+            total += 60.0 * length / rate
+        pos = nxt
+    return total
+
+
 def _iso_params(obj, core, ball_radius):
     """IsoParams from the op's properties; the core checks the ranges."""
     params = core.IsoParams()
     params.ball_radius = ball_radius
     params.scallop_height = obj.ScallopHeight.Value
+    params.overcut_tolerance = obj.OvercutTolerance.Value
     params.chord_tolerance = obj.ChordTolerance.Value
+    if not 0 <= obj.PostPrecision <= 9:
+        raise IsoCAMError(
+            "PostPrecision must be 0..9 decimals (got %d)" % obj.PostPrecision
+        )
+    params.posted_resolution = 10.0 ** -obj.PostPrecision
+    params.air_clearance = obj.AirClearance.Value
+    params.feed_rate, params.plunge_rate = _feeds_mm_min(obj)
+    params.rapid_rate = _rapid_mm_min(obj)
     params.direction = getattr(core.IsoDirection, obj.Direction)
     params.pattern = getattr(core.IsoPattern, obj.Pattern)
     params.scallop_bound = getattr(core.IsoScallopBound, obj.ScallopBound)
@@ -365,13 +514,21 @@ def _combined_metrics(results):
         "cutting_length",
         "rapid_length",
         "plunge_length",
+        "machine_time",
+        "cutting_time",
         "lower_bound_length",
         "unreachable_length",
     ):
         combined[attr] = sum(getattr(r.metrics, attr) for r in results)
     for attr in ("sub_isocurves", "retracts"):
         combined[attr] = sum(int(getattr(r.metrics, attr)) for r in results)
-    for attr in ("max_iso_distance", "guaranteed_scallop", "delta_max"):
+    for attr in (
+        "max_iso_distance",
+        "guaranteed_scallop",
+        "guaranteed_overcut",
+        "chord_tolerance",
+        "delta_max",
+    ):
         combined[attr] = max(getattr(r.metrics, attr) for r in results)
     lower = combined["lower_bound_length"]
     combined["length_ratio"] = combined["cutting_length"] / lower if lower > 0 else 0.0
@@ -394,8 +551,9 @@ def _print_certificate(obj, m, seconds):
         "IsoCAM %s (%s, %s bound): %d sub-isocurves (direction %s), "
         "cutting %.1f mm = %.2f x L* (%.1f mm), rapid %.1f mm, plunge %.1f mm, "
         "%d retracts; iso-distance tolerance %.4f..%.4f mm, max iso-distance "
-        "%.4f mm -> guaranteed scallop %.5f mm (requested %.5f mm); "
-        "unreachable %.1f mm; %.2f s\n"
+        "%.4f mm -> guaranteed scallop %.5f mm (requested %.5f mm), "
+        "guaranteed overcut %.5f mm (allowed %.5f mm, chords %.5f mm); "
+        "machine time %.1f min (cutting %.1f min); unreachable %.1f mm; %.2f s\n"
         % (
             obj.Label,
             obj.Pattern,
@@ -413,6 +571,11 @@ def _print_certificate(obj, m, seconds):
             m["max_iso_distance"],
             m["guaranteed_scallop"],
             obj.ScallopHeight.Value,
+            m["guaranteed_overcut"],
+            obj.OvercutTolerance.Value,
+            m["chord_tolerance"],
+            m["machine_time"] / 60.0,
+            m["cutting_time"] / 60.0,
             m["unreachable_length"],
             seconds,
         )
@@ -432,7 +595,16 @@ def _warn_guarantee(obj, m):
 
 def SetupProperties():
     """Properties for which a Job's SetupSheet may hold defaults."""
-    return ["ScallopHeight", "Direction", "ChordTolerance", "Pattern", "ScallopBound"]
+    return [
+        "ScallopHeight",
+        "OvercutTolerance",
+        "Direction",
+        "ChordTolerance",
+        "Pattern",
+        "ScallopBound",
+        "AirClearance",
+        "RapidRate",
+    ]
 
 
 def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):

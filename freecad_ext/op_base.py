@@ -18,7 +18,7 @@ from freecad_ext.compat import PathLog, PathOp
 
 # Move kinds of the core's flat toolpath arrays (src/core isocam/toolpath.h,
 # isocam/pocketing.h).
-MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW = 0, 1, 2, 3, 4
+MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW, MOVE_RAMP = 0, 1, 2, 3, 4, 5
 
 
 class IsoCAMError(Exception):
@@ -256,7 +256,7 @@ def commands_from_moves(kind, xyz, horiz_feed, vert_feed, centre=None):
     """Path.Commands for the core's flat arrays: kind (N,), xyz (N,3) and,
     where the path has arcs, centre (N,2).
 
-    Rapid -> G0; feed -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`
+    Rapid -> G0; feed and ramp -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`
     (FreeCAD's units: mm and mm/s); arcs -> G2 (clockwise) / G3 with I, J
     relative to the arc's start, as FreeCAD's Path and the post-processors
     expect.
@@ -267,7 +267,7 @@ def commands_from_moves(kind, xyz, horiz_feed, vert_feed, centre=None):
     for k, (x, y, z), (cx, cy) in zip(kind.tolist(), xyz.tolist(), centres):
         if k == MOVE_RAPID:
             commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
-        elif k == MOVE_FEED:
+        elif k in (MOVE_FEED, MOVE_RAMP):
             commands.append(
                 Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
             )

@@ -66,7 +66,7 @@ OPERATIONS = (
             ("ball_end",),
             ("positive", "ScallopHeight"),
             ("below_ball_radius", "ScallopHeight"),
-            ("positive", "ChordTolerance"),
+            ("not_negative", "ChordTolerance"),
         ),
         hint="ball_stepover",
     ),
@@ -211,6 +211,15 @@ def _positive(inputs, prop):
     return None
 
 
+def _not_negative(inputs, prop):
+    value = inputs.values.get(prop)
+    if value is None:
+        return "%s: not a length." % prop
+    if value < 0:
+        return "%s must be 0 (derived) or greater." % prop
+    return None
+
+
 def _below_ball_radius(inputs, prop):
     value, radius = inputs.values.get(prop), inputs.tool_radius()
     if value is None or radius is None or value <= 0:
@@ -230,6 +239,7 @@ RULES = {
     "tool": _tool,
     "ball_end": _ball_end,
     "positive": _positive,
+    "not_negative": _not_negative,
     "below_ball_radius": _below_ball_radius,
 }
 

@@ -109,7 +109,13 @@ PYBIND11_MODULE(isocam_core, m) {
       .def(py::init<>())
       .def_readwrite("ball_radius", &IsoParams::ball_radius)
       .def_readwrite("scallop_height", &IsoParams::scallop_height)
-      .def_readwrite("chord_tolerance", &IsoParams::chord_tolerance)
+      .def_readwrite("overcut_tolerance", &IsoParams::overcut_tolerance)
+      .def_readwrite("chord_tolerance", &IsoParams::chord_tolerance, "0: derived from the budgets")
+      .def_readwrite("posted_resolution", &IsoParams::posted_resolution)
+      .def_readwrite("air_clearance", &IsoParams::air_clearance)
+      .def_readwrite("feed_rate", &IsoParams::feed_rate, "mm/min")
+      .def_readwrite("plunge_rate", &IsoParams::plunge_rate, "mm/min")
+      .def_readwrite("rapid_rate", &IsoParams::rapid_rate, "mm/min")
       .def_readwrite("direction", &IsoParams::direction)
       .def_readwrite("pattern", &IsoParams::pattern)
       .def_readwrite("scallop_bound", &IsoParams::scallop_bound)
@@ -140,6 +146,10 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("retracts", &IsoMetrics::retracts)
       .def_readonly("max_iso_distance", &IsoMetrics::max_iso_distance)
       .def_readonly("guaranteed_scallop", &IsoMetrics::guaranteed_scallop)
+      .def_readonly("guaranteed_overcut", &IsoMetrics::guaranteed_overcut)
+      .def_readonly("chord_tolerance", &IsoMetrics::chord_tolerance)
+      .def_readonly("machine_time", &IsoMetrics::machine_time, "s")
+      .def_readonly("cutting_time", &IsoMetrics::cutting_time, "s")
       .def_readonly("unreachable_length", &IsoMetrics::unreachable_length)
       .def_readonly("lower_bound_length", &IsoMetrics::lower_bound_length);
 
@@ -151,7 +161,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("t1", &SubIsocurve::t1);
 
   py::class_<PyIsoResult>(m, "IsoResult")
-      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge")
+      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge, 5 ramp")
       .def_readonly("xyz", &PyIsoResult::xyz, "float64 (N,3): move end points, tool tip, mm")
       .def_readonly("metrics", &PyIsoResult::metrics)
       .def_readonly("face_direction", &PyIsoResult::face_direction)
@@ -162,6 +172,7 @@ PYBIND11_MODULE(isocam_core, m) {
   m.attr("RAPID") = 0;
   m.attr("FEED") = 1;
   m.attr("PLUNGE") = 2;
+  m.attr("RAMP") = 5;
 
   m.def("stepover_for_scallop", &stepover_for_scallop, py::arg("ball_radius"),
         py::arg("scallop_height"), "Flat-ground stepover delta = 2 sqrt(2 r h - h^2)");

@@ -74,12 +74,22 @@ TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
   IsoParams p;
   p.ball_radius = c.r;
   p.scallop_height = c.h;
-  p.chord_tolerance = c.chord;
+  p.chord_tolerance = c.chord;  // 0: derived from the budgets
+  // An override must fit the overcut budget (chord + gouge + posted rounding).
+  if (c.chord > 0) p.overcut_tolerance = c.chord + p.gouge_tolerance + 0.001;
   p.direction = c.dir;
   p.safe_z = 1000;
   const IsoResult res = adaptive_isocurve(shape, {c.face}, p);
-  const double delta = stepover_for_scallop(c.r, c.h);
-  EXPECT_DOUBLE_EQ(res.metrics.delta, delta);
+  const double chord = res.metrics.chord_tolerance;
+  if (c.chord > 0) {
+    EXPECT_EQ(chord, c.chord);
+  }
+  EXPECT_LE(res.metrics.guaranteed_overcut, p.overcut_tolerance);
+  // The flat stepover for the cusp the budget leaves: the centres may be
+  // off the offset by the chord tolerance and the posted rounding.
+  const double e = res.metrics.chord_tolerance + 0.5 * std::sqrt(3.0) * p.posted_resolution;
+  const double delta = 2.0 * std::sqrt(2.0 * (c.r - e) * (c.h - e) - (c.h - e) * (c.h - e));
+  EXPECT_NEAR(res.metrics.delta, delta, 1e-12);
   EXPECT_GT(res.metrics.sub_isocurves, 2);
   // The curvature-aware bound (the default) works to a tolerance per patch,
   // under delta on convex ground, up to 2 delta on concave ground.
@@ -97,7 +107,7 @@ TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
   EXPECT_LT(gap, res.metrics.delta_max);
 
   const test::FaceCloud cloud(face, 600);
-  expect_path_follows_curves(face, c.face, res, c.r, c.chord, p.gouge_tolerance, cloud,
+  expect_path_follows_curves(face, c.face, res, c.r, chord, p.gouge_tolerance, cloud,
                              whole_model(shape, c.r));
 
   // No gouge: the ball centre stays at least r (less the chord tolerance,
@@ -105,7 +115,7 @@ TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
   // tolerance) from the face, checked against a dense cloud of the face
   // refined by local projection.
   const double closest = test::min_centre_distance(cloud, res.path, c.r, 4000);
-  EXPECT_GE(closest, c.r - c.chord - p.gouge_tolerance - 1e-6);
+  EXPECT_GE(closest, c.r - chord - p.gouge_tolerance - 1e-6);
 }
 
 TopoDS_Shape mat() { return test::load("MAT.brep"); }
@@ -121,8 +131,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(FaceCase{"MAT_bicubic_6160_patches", mat, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
                       FaceCase{"wing_degree8_ruled", wing, 0, 3.0, 0.02, 0.01, IsoDirection::V},
                       FaceCase{"sphere_rational_with_poles", sphere, 0, 3.0, 0.02, 0.01, IsoDirection::U},
-                      FaceCase{"sphere_latitudes", sphere, 0, 3.0, 0.02, 0.01, IsoDirection::V},
-                      FaceCase{"cylinder_rational", cylinder, 0, 2.0, 0.01, 0.005, IsoDirection::Auto},
+                      FaceCase{"sphere_latitudes", sphere, 0, 3.0, 0.02, 0.0, IsoDirection::V},
+                      FaceCase{"cylinder_rational", cylinder, 0, 2.0, 0.01, 0.0, IsoDirection::Auto},
                       FaceCase{"torus_rational", torus, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
                       FaceCase{"figure2_ruled", figure2, 0, 5.0, 0.1, 0.01, IsoDirection::V},
                       FaceCase{"convex_C0_creases", creased, 0, 5.0, 0.1, 0.01, IsoDirection::V}),
@@ -150,39 +160,33 @@ TEST(AdaptiveIsocurve, ShorterThanUniformIsocurvesOnFigure2) {
   EXPECT_LT(adaptive.metrics.cutting_length, 0.75 * uniform.metrics.cutting_length);
 }
 
-// The scallop, measured on the cut (test::measure_scallop), on convex ground:
-// there the flat bound (the paper's) leaves cusps higher than asked, and its
-// certificate says so; the curvature-aware bound keeps them under h. The
-// chord tolerance is small so that it does not hide the difference.
+// The scallop, measured on the cut (test::measure_scallop), on convex ground,
+// where the paper's flat-ground stepover alone would leave cusps higher than
+// asked: both bounds narrow the stepover there (the flat one never widens it
+// on concave ground), so the certificate, chords included, holds and stays
+// under h under either bound, and the cut is not needlessly fine.
 TEST(AdaptiveIsocurve, ScallopMeasuredUnderTheRequestedHeightOnConvexGround) {
   const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(10.0).Shape();
   const TopoDS_Face face = test::face(sphere, 0);
   IsoParams p;
   p.ball_radius = 3.0;
   p.scallop_height = 0.05;
-  p.chord_tolerance = 0.001;
   p.direction = IsoDirection::V;
   p.safe_z = 100;
-  double measured[2], certified[2];
   const IsoScallopBound bounds[2] = {IsoScallopBound::Flat, IsoScallopBound::Curvature};
   for (int k = 0; k < 2; ++k) {
     p.scallop_bound = bounds[k];
     const IsoResult res = adaptive_isocurve(sphere, {0}, p);
     const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 150, 0.02, 1.0);
-    measured[k] = s.max;
-    certified[k] = res.metrics.guaranteed_scallop;
     std::cout << (k ? "curvature" : "flat") << " bound: measured scallop " << s.max << " over "
               << s.samples << " samples (" << s.uncovered << " uncovered), certified "
-              << certified[k] << ", cutting length " << res.metrics.cutting_length << "\n";
+              << res.metrics.guaranteed_scallop << ", cutting length " << res.metrics.cutting_length
+              << "\n";
     EXPECT_EQ(s.uncovered, 0);
-    // The certificate is true: no cusp higher than it (less what the chords,
-    // which cut inside the convex offset, take off).
-    EXPECT_LE(measured[k], certified[k] + 1e-4);
+    EXPECT_LE(s.max, res.metrics.guaranteed_scallop);
+    EXPECT_LE(res.metrics.guaranteed_scallop, p.scallop_height * (1 + 1e-9));
+    EXPECT_GT(s.max, 0.7 * p.scallop_height);
   }
-  EXPECT_GT(measured[0], p.scallop_height * 1.1);  // flat: too high on a sphere of 10 mm
-  EXPECT_GT(certified[0], p.scallop_height * 1.1);
-  EXPECT_LE(measured[1], p.scallop_height + 1e-4);
-  EXPECT_GT(measured[1], 0.7 * p.scallop_height);  // and not needlessly over-cut
 }
 
 TEST(AdaptiveIsocurve, AutoPicksTheShorterDirection) {
@@ -203,9 +207,10 @@ TEST(AdaptiveIsocurve, AutoPicksTheShorterDirection) {
 }
 
 TEST(AdaptiveIsocurve, PathShapeRetractsAndSafeHeight) {
-  // Every piece is entered from the safe height by a plunge and left by a
-  // vertical retract; the path ends at the safe height; adjacent pieces are
-  // linked without retracts.
+  // The path starts and ends at the safe height; every piece is entered by
+  // a vertical fed plunge after a rapid (from the safe height only the
+  // first, the others from a hop) and left by a vertical lift; adjacent
+  // pieces are linked without lifts.
   const TopoDS_Shape s = test::figure2_ruled_surface();
   IsoParams p;
   p.ball_radius = 5;
@@ -217,17 +222,23 @@ TEST(AdaptiveIsocurve, PathShapeRetractsAndSafeHeight) {
   ASSERT_GT(t.size(), 3u);
   EXPECT_EQ(t.kind[0], static_cast<std::uint8_t>(MoveKind::Rapid));
   EXPECT_DOUBLE_EQ(t.z[0], 50.0);
-  EXPECT_EQ(t.kind[1], static_cast<std::uint8_t>(MoveKind::Plunge));
-  EXPECT_DOUBLE_EQ(t.x[1], t.x[0]);
-  EXPECT_DOUBLE_EQ(t.y[1], t.y[0]);
+  // Down from there at rapid to near the surface, then fed (straight down,
+  // or along the normal where the piece starts on a steep wall).
+  std::size_t first = 1;
+  while (first < t.size() && t.kind[first] == static_cast<std::uint8_t>(MoveKind::Rapid)) ++first;
+  ASSERT_LT(first, t.size());
+  EXPECT_TRUE(t.kind[first] == static_cast<std::uint8_t>(MoveKind::Plunge) ||
+              t.kind[first] == static_cast<std::uint8_t>(MoveKind::Ramp));
+  EXPECT_LT(t.z[first - 1] - t.z[first], 50.0 - t.z[first]);
   EXPECT_EQ(t.kind.back(), static_cast<std::uint8_t>(MoveKind::Rapid));
   EXPECT_DOUBLE_EQ(t.z.back(), 50.0);
   int plunges = 0;
   for (std::size_t i = 1; i < t.size(); ++i) {
-    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Plunge)) {
+    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Plunge) ||
+        t.kind[i] == static_cast<std::uint8_t>(MoveKind::Ramp)) {
       ++plunges;
       EXPECT_EQ(t.kind[i - 1], static_cast<std::uint8_t>(MoveKind::Rapid));
-      EXPECT_DOUBLE_EQ(t.z[i - 1], 50.0);
+      EXPECT_LT(t.z[i], t.z[i - 1]);
     }
     if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed)) {
       EXPECT_LT(t.z[i], 50.0);
@@ -298,7 +309,7 @@ TEST_P(AdaptiveOnTrimmedFace, StaysInsideAndCoversTheTrimmedDomain) {
   std::cout << c.name << ": delta " << delta << " coverage gap " << gap << " sub-isocurves "
             << res.metrics.sub_isocurves << "\n";
   EXPECT_LT(gap, res.metrics.delta_max);
-  expect_path_follows_curves(face, c.face, res, c.r, p.chord_tolerance, p.gouge_tolerance,
+  expect_path_follows_curves(face, c.face, res, c.r, res.metrics.chord_tolerance, p.gouge_tolerance,
                              test::FaceCloud(face, 400), whole_model(shape, c.r));
 }
 

@@ -60,7 +60,7 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
             << w.samples << ", unreachable length " << res.metrics.unreachable_length << "\n";
   // No gouge against any face of the model, links included (they are feed
   // moves too).
-  EXPECT_GE(w.min_clearance, c.r - p.chord_tolerance - p.gouge_tolerance - 1e-4)
+  EXPECT_GE(w.min_clearance, c.r - res.metrics.chord_tolerance - p.gouge_tolerance - 1e-4)
       << "ball centre (" << w.closest_centre.X() << ", " << w.closest_centre.Y() << ", "
       << w.closest_centre.Z() << ") from face " << w.closest_face << " at ("
       << w.closest_point.X() << ", " << w.closest_point.Y() << ", " << w.closest_point.Z() << ")";

@@ -35,6 +35,13 @@ def expected_core_result(op, clone):
     params.ball_radius = BALL_DIAMETER / 2
     params.scallop_height = op.ScallopHeight.Value
     params.chord_tolerance = op.ChordTolerance.Value
+    params.overcut_tolerance = op.OvercutTolerance.Value
+    params.posted_resolution = 10.0 ** -op.PostPrecision
+    params.air_clearance = op.AirClearance.Value
+    tc = op.ToolController
+    params.feed_rate = tc.HorizFeed.Value * 60 if tc.HorizFeed.Value > 0 else 1200.0
+    params.plunge_rate = tc.VertFeed.Value * 60 if tc.VertFeed.Value > 0 else 400.0
+    params.rapid_rate = op.RapidRate
     params.direction = core.IsoDirection.Auto
     params.safe_z = op.SafeHeight.Value
     return core.adaptive_isocurve(clone.Shape.exportBrepToString(), [0], params)
@@ -54,7 +61,9 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         op = self.op
         self.assertNotIn("Invalid", op.State, op.getStatusString())
         self.assertAlmostEqual(op.ScallopHeight.Value, SCALLOP)
-        self.assertAlmostEqual(op.ChordTolerance.Value, 0.01)
+        self.assertAlmostEqual(op.ChordTolerance.Value, 0.0)  # derived
+        self.assertAlmostEqual(op.OvercutTolerance.Value, 0.005)
+        self.assertAlmostEqual(op.RapidRate, 5000.0)  # mm/min
         self.assertEqual(op.Direction, "Auto")
         self.assertIs(op.ToolController, self.setup.ball_tc)
 
@@ -65,7 +74,7 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         x0, y0 = res.xyz[0][0], res.xyz[0][1]
         self.assertAlmostEqual(res.xyz[0][2], safe, delta=COORD_TOL)
         expected = [("G0", {"Z": clear}), ("G0", {"X": x0, "Y": y0, "Z": clear})]
-        feed = {0: None, 1: tc.HorizFeed.Value, 2: tc.VertFeed.Value}
+        feed = {0: None, 1: tc.HorizFeed.Value, 2: tc.VertFeed.Value, 5: tc.HorizFeed.Value}
         for k, (x, y, z) in zip(res.kind.tolist(), res.xyz.tolist()):
             params = {"X": x, "Y": y, "Z": z}
             if feed[k] is not None:
@@ -100,9 +109,43 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         self.assertAlmostEqual(
             op.GuaranteedScallop.Value, m.guaranteed_scallop, places=9
         )
+        self.assertAlmostEqual(
+            op.GuaranteedOvercut.Value, m.guaranteed_overcut, places=9
+        )
+        self.assertAlmostEqual(op.ChordToleranceUsed.Value, m.chord_tolerance, places=9)
+        self.assertAlmostEqual(op.CuttingTime, m.cutting_time, places=6)
         self.assertIn(op.DirectionUsed, ("U", "V"))
-        # The certificate the op exists for: scallop within the request.
+        # The certificates the op exists for: within the requests.
         self.assertLessEqual(op.GuaranteedScallop.Value, SCALLOP * (1 + 1e-6))
+        self.assertLessEqual(
+            op.GuaranteedOvercut.Value, op.OvercutTolerance.Value * (1 + 1e-9)
+        )
+
+    def test_machine_time_agrees_with_the_posted_commands_and_cycle_time(self):
+        """Recomputed here from the op's commands (each G1 at its own F,
+        FreeCAD's mm/s; G0 at RapidRate; the two lead-in moves from the
+        unknown start left out): MachineTime, and FreeCAD's CycleTime."""
+        op = self.op
+        rapid = op.RapidRate / 60.0  # mm/s
+        seconds, pos, moves = 0.0, None, 0
+        for c in op.Path.Commands:
+            if c.Name not in ("G0", "G1"):
+                continue
+            moves += 1
+            p = c.Parameters
+            nxt = [p.get(a, pos[i] if pos else 0.0) for i, a in enumerate("XYZ")]
+            if pos is not None and moves > 2:
+                d = sum((u - v) ** 2 for u, v in zip(pos, nxt)) ** 0.5
+                seconds += d / (rapid if c.Name == "G0" else p["F"])
+            pos = nxt
+        self.assertAlmostEqual(op.MachineTime, seconds, delta=1e-6 * seconds)
+        h, m, s = (int(v) for v in op.CycleTime.split(":"))
+        self.assertLessEqual(abs(h * 3600 + m * 60 + s - seconds), 1.0)
+        # The core's estimate differs only by the op's rapids between
+        # ClearanceHeight and SafeHeight, down at the start and up at the end.
+        core = expected_core_result(op, self.setup.clone).metrics
+        lead = 2 * (op.ClearanceHeight.Value - op.SafeHeight.Value) / rapid
+        self.assertAlmostEqual(op.MachineTime, core.machine_time + lead, delta=1e-6 * seconds)
         self.assertGreater(op.SubIsocurves, 0)
         self.assertEqual(
             op.getPropertyStatus("CuttingLength")[:2], ["ReadOnly", "Output"]
@@ -158,13 +201,18 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         clear, safe = op.ClearanceHeight.Value, op.SafeHeight.Value
         _, x0, y0, _ = support.path_points(op.Path)[2]
         _, px, py, pz = support.path_points(op.Path)[3]
+        _, qx, qy, qz = support.path_points(op.Path)[4]
+        # Down at rapid to near the surface, then the entry fed (a plunge at
+        # VertFeed, or a ramp along the pass at HorizFeed).
+        entry_feed = op.Path.Commands[5].Parameters["F"] * 60
         self.assertEqual(
-            lines[start + 1 : start + 5],
+            lines[start + 1 : start + 6],
             [
                 "G0 Z%.3f" % clear,
                 "G0 X%.3f Y%.3f Z%.3f" % (x0, y0, clear),
                 "G0 X%.3f Y%.3f Z%.3f" % (x0, y0, safe),
-                "G1 X%.3f Y%.3f Z%.3f F%.3f" % (px, py, pz, tc.VertFeed.Value * 60),
+                "G0 X%.3f Y%.3f Z%.3f" % (px, py, pz),
+                "G1 X%.3f Y%.3f Z%.3f F%.3f" % (qx, qy, qz, entry_feed),
             ],
         )
 

@@ -76,10 +76,15 @@ class BadInputTest(unittest.TestCase):
             self.recompute_expecting_error(op, "scallop_height", "ScallopHeight")
             self.assertEqual(op.ScallopHeight.Value, scallop)  # not rewritten
 
-    def test_zero_chord_tolerance_names_chord_tolerance(self):
-        op = self.new_op("NoChord", self.setup.ball_tc)
-        op.ChordTolerance = 0
-        self.recompute_expecting_error(op, "ChordTolerance")
+    def test_chord_tolerance_over_the_overcut_budget_names_both(self):
+        op = self.new_op("BigChord", self.setup.ball_tc)
+        op.ChordTolerance = 0.01  # > OvercutTolerance 0.005 - gouge - rounding
+        self.recompute_expecting_error(op, "ChordTolerance", "OvercutTolerance")
+
+    def test_overcut_tolerance_under_its_fixed_parts_names_it(self):
+        op = self.new_op("TinyOvercut", self.setup.ball_tc)
+        op.OvercutTolerance = 0.001  # under gouge 0.001 + posted rounding
+        self.recompute_expecting_error(op, "overcut_tolerance", "OvercutTolerance")
 
     def test_safe_height_below_the_path_names_safe_height(self):
         op = self.new_op("LowSafe", self.setup.ball_tc)

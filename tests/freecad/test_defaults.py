@@ -65,7 +65,7 @@ class TemplateCarriesDefaults(unittest.TestCase):
         op = adaptive_isocurve.Create(OP, parentJob=job, toolController=tc)
         self.assertAlmostEqual(op.ScallopHeight.Value, 0.05)
         self.assertEqual(op.Direction, "U")
-        self.assertAlmostEqual(op.ChordTolerance.Value, 0.01)  # built-in
+        self.assertAlmostEqual(op.ChordTolerance.Value, 0.0)  # built-in: derived
 
 
 class PreferenceDefaults(unittest.TestCase):
@@ -73,7 +73,7 @@ class PreferenceDefaults(unittest.TestCase):
         self.setup = support.JobSetup("IsoPrefs")
         self.addCleanup(self.setup.close)
         self.addCleanup(preferences.group(OP).Clear)
-        preferences.store_default(OP, "ChordTolerance", 0.02)
+        preferences.store_default(OP, "ChordTolerance", 0.002)
         preferences.store_default(OP, "Direction", "V")
         preferences.store_default(OP, "ScallopHeight", 0.03)
 
@@ -89,7 +89,7 @@ class PreferenceDefaults(unittest.TestCase):
             op, OP, adaptive_isocurve.SetupProperties(), self.setup.job
         )
         self.assertEqual(sorted(applied), ["ChordTolerance", "Direction"])
-        self.assertAlmostEqual(op.ChordTolerance.Value, 0.02)
+        self.assertAlmostEqual(op.ChordTolerance.Value, 0.002)
         self.assertEqual(op.Direction, "V")
         self.assertAlmostEqual(op.ScallopHeight.Value, 0.05)  # the sheet's
 

@@ -26,7 +26,7 @@ from freecad_ext import adaptive_isocurve, compat, operations, preferences, scri
 
 COMMAND = "IsoCAM_AdaptiveIsocurve"
 SCALLOP = 0.05  # mm: coarse, computes in a few seconds on MAT
-PREFERRED_CHORD = 0.02  # mm: a user default set in the preferences
+PREFERRED_CHORD = 0.0005  # mm: a user default set in the preferences (fits the budgets)
 COMPUTE_TIMEOUT = 90.0  # s
 
 

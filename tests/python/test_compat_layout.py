@@ -241,7 +241,7 @@ class OperationsTable(unittest.TestCase):
             (dict(scallop=0.0), "ScallopHeight must be greater than 0"),
             (dict(scallop=3.0), "smaller than the ball radius 3 mm"),
             (dict(scallop=None), "ScallopHeight: not a length"),
-            (dict(chord=-1.0), "ChordTolerance must be greater than 0"),
+            (dict(chord=-1.0), "ChordTolerance must be 0 (derived) or greater"),
         ]
         for kwargs, reason in cases:
             messages = self.ops.check(self.isocurve, self.inputs(**kwargs))

@@ -68,7 +68,8 @@ class ParallelPlanesOnMat(unittest.TestCase):
         self.assertAlmostEqual(
             seg[kind[1:] == core.FEED].sum(), res.metrics.cutting_length, delta=1e-6
         )
-        self.assertEqual(int((kind == core.PLUNGE).sum()), res.metrics.retracts)
+        entries = (kind == core.PLUNGE) | (kind == core.RAMP)
+        self.assertEqual(int(entries.sum()), res.metrics.retracts)
 
     def test_every_cutting_point_is_in_a_plane_delta_apart(self):
         res = self.planes

@@ -104,10 +104,16 @@ std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::ve
 // Orders and links pieces (of one face or many) into a path. Greedy: from
 // the end of a piece, the nearest piece end (either direction) that a feed
 // link reaches with the ball clear of the model -- along the offset surface
-// between pieces of one face, a straight move otherwise -- and not farther
-// than 4 r; where none is, a retract to safe_z, a rapid and a plunge to the
-// nearest piece. The path starts with a rapid to the safe height above its
-// first point and ends with a retract.
+// between pieces of one face, a straight move otherwise -- not farther than
+// 8 r and not slower (at the params' rates) than a hop to the nearest
+// piece. Where none is, a hop: a rapid straight up, across at the lowest
+// height tried (max of the two ends + air_clearance x 2^k) whose move the
+// model clears by r + air_clearance, down to the lowest height tried
+// (air_clearance x 2^k above the entry) from which the descent clears it
+// as much, and the rest of the entry fed (a plunge). The lift and the fed
+// entry keep the cutting clearance; hops that find nothing clear below the
+// safe height go to it. The path starts at the safe height above its first
+// point and ends with a retract to it.
 Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
                      const ClearanceModel& model);
 

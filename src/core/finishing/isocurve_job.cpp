@@ -3,6 +3,8 @@
 // model, runs Algorithm 1 (or the uniform baseline) per face and direction,
 // and assembles the path and its certificate.
 #include <algorithm>
+#include <cstdio>
+#include <utility>
 #include <cmath>
 #include <iterator>
 #include <memory>
@@ -36,6 +38,12 @@ struct PickedFace {
   std::optional<TrimDomain> trim;
 };
 
+std::string mm(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
 void validate(const IsoParams& p) {
   auto bad = [](const std::string& s) { throw InvalidArgument(s); };
   if (!(p.ball_radius > 0) || !std::isfinite(p.ball_radius))
@@ -46,8 +54,22 @@ void validate(const IsoParams& p) {
       << " mm; got " << p.scallop_height << ")";
     bad(m.str());
   }
-  if (!(p.chord_tolerance > 0) || !std::isfinite(p.chord_tolerance))
-    bad("chord_tolerance must be > 0 mm (got " + std::to_string(p.chord_tolerance) + ")");
+  if (!(p.chord_tolerance >= 0) || !std::isfinite(p.chord_tolerance))
+    bad("chord_tolerance must be >= 0 mm (0: derived from the budgets; got " +
+        mm(p.chord_tolerance) + ")");
+  if (!(p.overcut_tolerance > 0) || !(p.overcut_tolerance < p.ball_radius))
+    bad("overcut_tolerance must be > 0 and < the ball radius " + mm(p.ball_radius) + " mm (got " +
+        mm(p.overcut_tolerance) + ")");
+  if (!(p.posted_resolution >= 0) || !(p.posted_resolution < 0.1))
+    bad("posted_resolution must be >= 0 and < 0.1 mm (0.001: 3 decimals; got " +
+        mm(p.posted_resolution) + ")");
+  if (!(p.air_clearance > 0) || !std::isfinite(p.air_clearance))
+    bad("air_clearance must be > 0 mm (got " + mm(p.air_clearance) + ")");
+  const std::pair<const char*, double> rates[] = {
+      {"feed_rate", p.feed_rate}, {"plunge_rate", p.plunge_rate}, {"rapid_rate", p.rapid_rate}};
+  for (const auto& [name, v] : rates)
+    if (!(v > 0) || !std::isfinite(v))
+      bad(std::string(name) + " must be > 0 mm/min (got " + mm(v) + ")");
   if (p.max_depth < 1) bad("max_depth must be >= 1 (got " + std::to_string(p.max_depth) + ")");
   if (!(p.min_param_gap > 0) || !(p.min_param_gap < 1))
     bad("min_param_gap must be in (0, 1) (got " + std::to_string(p.min_param_gap) + ")");
@@ -56,6 +78,38 @@ void validate(const IsoParams& p) {
   if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
     bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
   check_job_limits(p);
+}
+
+// The budgets split (see the header): the chord tolerance derived or
+// checked, with the parts of both guarantees.
+ErrorBudget split_budget(const IsoParams& p) {
+  ErrorBudget b;
+  b.gouge = p.gouge_tolerance;
+  b.posted = 0.5 * std::sqrt(3.0) * p.posted_resolution;
+  const double overcut_room = p.overcut_tolerance - b.gouge - b.posted;
+  const double scallop_room = p.scallop_height - b.posted;
+  if (!(overcut_room > 0))
+    throw InvalidArgument("overcut_tolerance (" + mm(p.overcut_tolerance) +
+                          " mm) must exceed gouge_tolerance + the posted rounding sqrt(3)/2 x "
+                          "posted_resolution (" + mm(b.gouge + b.posted) + " mm)");
+  if (!(scallop_room > 0))
+    throw InvalidArgument("scallop_height (" + mm(p.scallop_height) +
+                          " mm) must exceed the posted rounding sqrt(3)/2 x posted_resolution (" +
+                          mm(b.posted) + " mm)");
+  if (p.chord_tolerance == 0) {
+    b.chord = std::min(overcut_room, 0.25 * scallop_room);
+    return b;
+  }
+  b.chord = p.chord_tolerance;
+  if (b.chord > overcut_room)
+    throw InvalidArgument("chord_tolerance (" + mm(b.chord) + " mm) does not fit overcut_tolerance (" +
+                          mm(p.overcut_tolerance) + " mm): at most overcut_tolerance - gouge_tolerance"
+                          " - posted rounding = " + mm(overcut_room) + " mm (0: derived)");
+  if (!(b.chord < 0.9 * scallop_room))
+    throw InvalidArgument("chord_tolerance (" + mm(b.chord) + " mm) does not fit scallop_height (" +
+                          mm(p.scallop_height) + " mm): under 0.9 x (scallop_height - posted rounding)"
+                          " = " + mm(0.9 * scallop_room) + " mm (0: derived)");
+  return b;
 }
 
 struct FaceResult {
@@ -86,12 +140,12 @@ std::vector<SubIsocurve> clip_to_face(const std::vector<SubIsocurve>& curves,
 }
 
 FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const IsoParams& p,
-                             const ProgressSlice& progress) {
+                             const ErrorBudget& budget, const ProgressSlice& progress) {
   FaceResult r;
   r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
                                                                      : face.grid);
   r.dir = dir;
-  const StepoverField field(*r.grid, p);
+  const StepoverField field(*r.grid, p, budget.centre_error());
   r.delta_max = field.max_delta();
   r.coverage = p.pattern == IsoPattern::Uniform
                    ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
@@ -135,14 +189,19 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
 }  // namespace
 
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
-                            const IsoParams& params, Progress* progress) {
+                            const IsoParams& user_params, Progress* progress) {
   // The shape first: a shape without faces is that, whatever the numbers.
   if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty (no faces)");
   const std::vector<TopoDS_Face> all = faces_of(shape);
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
   check_faces(faces, all.size());
-  validate(params);
-  const double delta = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  validate(user_params);
+  const ErrorBudget budget = split_budget(user_params);
+  IsoParams params = user_params;  // with the chord tolerance used
+  params.chord_tolerance = budget.chord;
+  // The flat-ground stepover for the cusp the budget leaves (stepover.h).
+  const double delta = stepover_chord_with_error(params.ball_radius, params.scallop_height, 0.0,
+                                                 budget.centre_error());
   check_job_budget(all, faces, params, delta);
   IsoResult result;
   result.metrics.delta = delta;
@@ -202,7 +261,9 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     max_dist = cut.max_pass_distance;
     // Not a certificate: the flat-ground scallop of the largest pass
     // distance (see the header).
-    max_scallop = scallop_for_stepover(params.ball_radius, std::min(max_dist, 2 * params.ball_radius));
+    const double e = budget.centre_error();
+    max_scallop = e + scallop_for_stepover(params.ball_radius - e,
+                                           std::min(max_dist, 2 * (params.ball_radius - e)));
     result.metrics.delta_max = delta;
     for (std::size_t k : picked)
       result.metrics.lower_bound_length +=
@@ -228,7 +289,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     try {
       const double lo = (double(f) + double(di) / double(nd)) / nf;
       const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
-      tried[k] = face_in_direction(face, dirs[di], params, planning.sub(lo, hi));
+      tried[k] = face_in_direction(face, dirs[di], params, budget, planning.sub(lo, hi));
       if (di == 0)
         tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
                                                   params.scallop_height);
@@ -299,10 +360,16 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   const PathLengths len = measure(result.path);
   result.metrics.cutting_length = len.feed;
   result.metrics.rapid_length = len.rapid;
-  result.metrics.plunge_length = len.plunge;
+  result.metrics.plunge_length = len.plunge + len.ramp;
   result.metrics.retracts = len.retracts;
   result.metrics.max_iso_distance = max_dist;
   result.metrics.guaranteed_scallop = max_scallop;
+  result.metrics.guaranteed_overcut = budget.overcut();
+  result.metrics.chord_tolerance = budget.chord;
+  const PathTimes times = estimate_time(result.path, params.feed_rate, params.plunge_rate,
+                                        params.rapid_rate);
+  result.metrics.machine_time = times.total;
+  result.metrics.cutting_time = times.feed;
   return result;
 }
 

@@ -2,39 +2,53 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+
+#include <thread>
 
 #include "finishing/coverage.h"
+#include "finishing/task_pool.h"
 #include "toolpath/linearize.h"
 
 namespace isocam {
 namespace {
 
-// A feed link from the end of `a` to the start of `b`, or an empty vector if
-// none keeps the ball clear of the model. Between pieces of one face the
+// A feed link from the end of `a` to the start of `b` (its end if
+// `b_reversed`), or an empty vector if none keeps the ball clear of the
+// model. Between pieces of one face the
 // link follows the offset surface along the straight parameter segment (the
 // ball stays tangent to the face); otherwise (other faces, or pieces with
 // no grid such as parallel-plane curves) it is a straight move.
-std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, const IsoParams& params,
-                              const ClearanceModel& model, double clearance) {
+std::vector<gp_Pnt> feed_link(const CutPiece& a, const CutPiece& b, bool b_reversed,
+                              const IsoParams& params, const ClearanceModel& model,
+                              double clearance) {
   std::vector<gp_Pnt> link;
+  const gp_Pnt& b_start = b_reversed ? b.pts.back() : b.pts.front();
+  const double b_t = b_reversed ? b.t.back() : b.t.front();
+  // The middle first: a link that is not clear mostly crosses something (a
+  // valley, another face) away from its ends, which were cut clear; one
+  // point query refuses it before it is linearised.
   if (a.grid && a.grid == b.grid) {
     const PatchGrid& g = *a.grid;
     const double r = params.ball_radius;
-    const double t0 = a.t.back(), v0 = a.level, t1 = b.t.front(), v1 = b.level;
-    link = linearize(
-        [&](double s) {
-          const double t = t0 + (t1 - t0) * s, v = v0 + (v1 - v0) * s;
-          const SurfaceDerivs d = g.d1(t, v);
-          return d.p.Translated(g.normal(t, v, &d) * r);
-        },
-        0.0, 1.0, params.chord_tolerance, {}, 2);
+    const double t0 = a.t.back(), v0 = a.level, t1 = b_t, v1 = b.level;
+    auto centre = [&](double s) {
+      const double t = t0 + (t1 - t0) * s, v = v0 + (v1 - v0) * s;
+      const SurfaceDerivs d = g.d1(t, v);
+      return d.p.Translated(g.normal(t, v, &d) * r);
+    };
+    if (!model.clear(centre(0.5), clearance)) return {};
+    link = linearize(centre, 0.0, 1.0, params.chord_tolerance, {}, 2);
     link.front() = a.pts.back();
-    link.back() = b.pts.front();
+    link.back() = b_start;
   } else {
-    link = {a.pts.back(), b.pts.front()};
+    link = {a.pts.back(), b_start};
+    if (!model.clear(link[0].Translated(0.5 * gp_Vec(link[0], link[1])), clearance)) return {};
   }
-  for (std::size_t k = 1; k < link.size(); ++k)
-    if (!model.clear(link[k - 1], link[k], clearance)) return {};
+  std::vector<char> ok(link.size(), 0);
+  model.clear_polyline(link.data(), link.size(), clearance, ok.data());
+  for (std::size_t k = 0; k + 1 < link.size(); ++k)
+    if (!ok[k]) return {};
   return link;
 }
 
@@ -44,6 +58,116 @@ struct Candidate {
   bool reversed;
 };
 
+double polyline_length(const std::vector<gp_Pnt>& pts) {
+  double s = 0;
+  for (std::size_t k = 1; k < pts.size(); ++k) s += pts[k - 1].Distance(pts[k]);
+  return s;
+}
+
+// The air moves between two ball centres a and b (or from the safe height
+// when a is null): ball centres up, across, down (rapids) to the approach
+// point, then the fed entry from there to b. Times in minutes.
+struct Hop {
+  double top = 0.0;  // centre height of the move across
+  gp_Pnt approach;   // where the fed entry starts (the descent's end)
+  bool ramp = false; // the entry is a ramp (at the horizontal feed), not a plunge
+  double time = 0.0; // estimated at the rates of the params
+};
+
+class AirMoves {
+ public:
+  AirMoves(const IsoParams& p, const ClearanceModel& model)
+      : p_(p), model_(model), safe_c_(p.safe_z + p.ball_radius),
+        cut_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)),
+        air_(model.query_distance(p.ball_radius + p.air_clearance)) {}
+
+  double cutting_clearance() const { return cut_; }
+
+  // Rapids keep r + air_clearance from the model (the move across, the
+  // descent); the lift from a cutting position and the fed entry keep the
+  // cutting clearance. The move across: the lowest of the heights
+  // max(a.z, approach.z) + air_clearance x 2^k found clear, else the safe
+  // height (which the caller checked to be above the path; not queried).
+  // The approach, the first of these that is r + air_clearance clear:
+  // a ramp down to b along the pass (`dir`, horizontal, if given) from
+  // air_clearance back and as much above it, fed at the horizontal feed
+  // (three times the vertical one); air_clearance above b; air_clearance
+  // out along the surface normal `n` at b (a steep wall); each raised by
+  // air_clearance x (2^k - 1) until the descent to it is as clear.
+  Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
+    Hop h;
+    h.top = safe_c_;
+    const double air = p_.air_clearance;
+    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
+    gp_Pnt first = above;
+    if (dir) {
+      const gp_Pnt back = above.Translated(*dir * -air);
+      if (model_.clear(back, air_) && model_.clear(back, b, cut_)) {
+        first = back;
+        h.ramp = true;
+      }
+    }
+    if (!h.ramp && n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
+      first = b.Translated(*n * air);
+    const double base = a ? std::max(a->Z(), first.Z()) : first.Z();
+    for (int k = 0; a && k < 12; ++k) {
+      const double z = base + air * double(1 << k);
+      if (z >= safe_c_) break;
+      if (!model_.clear(up(*a, z), up(first, z), air_)) continue;
+      // The lift from the cutting position keeps the cutting clearance;
+      // where it does not (an overhang), the safe height, as FreeCAD's own
+      // ops retract.
+      if (model_.clear(*a, up(*a, z), cut_)) h.top = z;
+      break;
+    }
+    // The descent: rapid to the approach point, lowest first.
+    h.approach = up(first, h.top);
+    for (int k = 0; k < 12; ++k) {
+      const gp_Pnt e = first.Translated(gp_Vec(0, 0, air * double((1 << k) - 1)));
+      if (e.Z() >= h.top) break;
+      if (model_.clear(e, up(first, h.top), air_) && model_.clear(e, b, cut_)) {
+        h.approach = e;
+        break;
+      }
+    }
+    if (h.approach.Z() >= h.top) {  // fed all the way down, straight above b
+      h.ramp = false;
+      if (a && h.top < safe_c_ &&
+          !(model_.clear(up(*a, h.top), up(b, h.top), air_) && model_.clear(up(b, h.top), b, cut_)))
+        h.top = safe_c_;
+      h.approach = up(b, h.top);
+    }
+    const double across = a ? std::hypot(h.approach.X() - a->X(), h.approach.Y() - a->Y()) : 0.0;
+    const double rapid = (a ? h.top - a->Z() : 0.0) + across + (h.top - h.approach.Z());
+    h.time = rapid / p_.rapid_rate +
+             h.approach.Distance(b) / (h.ramp ? p_.feed_rate : p_.plunge_rate);
+    return h;
+  }
+
+ private:
+  static gp_Pnt up(const gp_Pnt& p, double z) { return gp_Pnt(p.X(), p.Y(), z); }
+  const IsoParams& p_;
+  const ClearanceModel& model_;
+  double safe_c_, cut_, air_;
+};
+
+// The horizontal direction a piece starts in (none if it starts vertically).
+std::optional<gp_Vec> start_direction(const CutPiece& p) {
+  if (p.pts.size() < 2) return std::nullopt;
+  gp_Vec d(p.pts[0], p.pts[1]);
+  d.SetZ(0.0);
+  if (d.Magnitude() < 1e-9) return std::nullopt;
+  return d.Normalized();
+}
+
+// The surface normal at the start of a piece (none without a grid).
+std::optional<gp_Vec> start_normal(const CutPiece& p) {
+  if (!p.grid) return std::nullopt;
+  const double t = p.t.front();
+  const SurfaceDerivs d = p.grid->d1(t, p.level);
+  return p.grid->normal(t, p.level, &d);
+}
+
 }  // namespace
 
 Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
@@ -51,14 +175,18 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   Toolpath path;
   if (pieces.empty()) return path;
   const double r = params.ball_radius, safe = params.safe_z;
-  const double clearance =
-      model.query_distance(r - params.chord_tolerance - params.gouge_tolerance);
-  const double max_link = 4.0 * r;
+  const AirMoves air(params, model);
+  const double clearance = air.cutting_clearance();
+  const double max_link = 8.0 * r;
   auto tip = [&](MoveKind k, const gp_Pnt& p) { path.add(k, p.X(), p.Y(), p.Z() - r); };
-  auto enter = [&](const CutPiece& p) {
-    if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
-    path.add(MoveKind::Rapid, p.pts.front().X(), p.pts.front().Y(), safe);
-    tip(MoveKind::Plunge, p.pts.front());
+  // Air moves from the current centre (none: the start) to the first point
+  // of p by `h`.
+  auto enter = [&](const CutPiece& p, const Hop& h) {
+    const gp_Pnt& e = h.approach;
+    if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), h.top - r);
+    path.add(MoveKind::Rapid, e.X(), e.Y(), h.top - r);
+    if (e.Z() < h.top) tip(MoveKind::Rapid, e);
+    tip(h.ramp ? MoveKind::Ramp : MoveKind::Plunge, p.pts.front());
   };
   auto cut = [&](const CutPiece& p) {
     for (std::size_t k = 1; k < p.pts.size(); ++k) tip(MoveKind::Feed, p.pts[k]);
@@ -67,11 +195,17 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   std::vector<char> used(pieces.size(), 0);
   std::size_t cur = 0;
   used[0] = 1;
-  enter(pieces[0]);
+  const std::optional<gp_Vec> n0 = start_normal(pieces[0]), d0 = start_direction(pieces[0]);
+  enter(pieces[0],
+        air.plan(nullptr, pieces[0].pts.front(), n0 ? &*n0 : nullptr, d0 ? &*d0 : nullptr));
   cut(pieces[0]);
   std::vector<Candidate> cands;
+  std::optional<gp_Vec> n_next, d_next;
+  const std::size_t batch =
+      params.threads > 0 ? std::size_t(params.threads)
+                         : std::max<std::size_t>(1, std::thread::hardware_concurrency());
   for (std::size_t step = 1; step < pieces.size(); ++step) {
-    const gp_Pnt& end = pieces[cur].pts.back();
+    const gp_Pnt end = pieces[cur].pts.back();
     cands.clear();
     for (std::size_t j = 0; j < pieces.size(); ++j) {
       if (used[j]) continue;
@@ -86,22 +220,52 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
                         if (x.piece != y.piece) return x.piece < y.piece;
                         return x.reversed < y.reversed;
                       });
+    const Candidate nearest = cands.front();
+    auto start_of = [&](const Candidate& c) -> const gp_Pnt& {
+      const CutPiece& q = pieces[c.piece];
+      return c.reversed ? q.pts.back() : q.pts.front();
+    };
+    // A feed link where it is clear and faster than the hop to the nearest
+    // piece (a few queries: planned first).
+    {
+      CutPiece& q = pieces[nearest.piece];
+      if (nearest.reversed) q.reverse();
+      n_next = start_normal(q);
+      d_next = start_direction(q);
+      if (nearest.reversed) q.reverse();
+    }
+    const Hop hop = air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr,
+                             d_next ? &*d_next : nullptr);
+    // The candidates a link might be faster than the hop to, tried in
+    // order, a batch of them (one per thread) at a time: the first clear
+    // one in order is taken (or the hop, if it is faster), whatever the
+    // number of threads.
+    std::vector<std::size_t> worth;
+    for (std::size_t k = 0; k < tries && cands[k].distance <= max_link; ++k)
+      if (cands[k].distance / params.feed_rate < hop.time) worth.push_back(k);
+    std::vector<std::vector<gp_Pnt>> tried(worth.size());
     std::vector<gp_Pnt> link;
-    Candidate chosen = cands.front();
-    for (std::size_t k = 0; k < tries && cands[k].distance <= max_link; ++k) {
-      CutPiece& next = pieces[cands[k].piece];
-      if (cands[k].reversed) next.reverse();
-      link = feed_link(pieces[cur], next, params, model, clearance);
-      if (cands[k].reversed) next.reverse();
-      if (!link.empty()) {
-        chosen = cands[k];
-        break;
+    Candidate chosen = nearest;
+    bool decided = false;
+    for (std::size_t k0 = 0; k0 < worth.size() && !decided; k0 += batch) {
+      const std::size_t k1 = std::min(worth.size(), k0 + batch);
+      for_each_index(k1 - k0, params.threads, [&](std::size_t i) {
+        const Candidate& c = cands[worth[k0 + i]];
+        tried[k0 + i] = feed_link(pieces[cur], pieces[c.piece], c.reversed, params, model, clearance);
+      });
+      for (std::size_t k = k0; k < k1 && !decided; ++k) {
+        if (tried[k].empty()) continue;
+        decided = true;
+        if (polyline_length(tried[k]) / params.feed_rate < hop.time) {
+          link = std::move(tried[k]);
+          chosen = cands[worth[k]];
+        }
       }
     }
     CutPiece& next = pieces[chosen.piece];
     if (chosen.reversed) next.reverse();
     if (link.empty()) {
-      enter(next);
+      enter(next, hop);
     } else {
       for (std::size_t k = 1; k < link.size(); ++k) tip(MoveKind::Feed, link[k]);
     }

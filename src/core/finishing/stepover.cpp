@@ -43,9 +43,20 @@ double stepover_chord(double r, double h, double kappa) {
 
 double scallop_for_chord(double r, double c, double kappa) {
   if (!(c > 0)) return 0.0;
-  // stepover_chord grows with h (until the balls stop meeting): bisect.
-  double lo = 0.0, hi = r;
-  if (stepover_chord(r, hi * (1 - 1e-12), kappa) < c) return r;
+  // stepover_chord grows with h from 0, but on convex ground tighter than
+  // the ball it turns back before h reaches r: the cusp is the smallest h
+  // it reaches c at. A scan on a geometric grid brackets that crossing,
+  // bisection locates it.
+  double lo = 0.0, hi = -1.0;
+  for (int k = 0; k <= 64; ++k) {
+    const double h = r * std::pow(1e-9, 1.0 - k / 64.0) * (k == 64 ? 1 - 1e-12 : 1.0);
+    if (stepover_chord(r, h, kappa) >= c) {
+      hi = h;
+      break;
+    }
+    lo = h;
+  }
+  if (hi < 0) return r;  // the balls do not meet
   for (int it = 0; it < 200 && hi - lo > 1e-13 * r; ++it) {
     const double mid = 0.5 * (lo + hi);
     (stepover_chord(r, mid, kappa) < c ? lo : hi) = mid;
@@ -53,10 +64,27 @@ double scallop_for_chord(double r, double c, double kappa) {
   return hi;
 }
 
-StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p)
-    : g_(g), r_(p.ball_radius),
-      flat_(2.0 * std::sqrt(2.0 * p.ball_radius * p.scallop_height -
-                            p.scallop_height * p.scallop_height)),
+// Concave ground at least as tight as the ball: the ball leaves no cusp
+// (it cannot reach the bottom, where the clearance cut leaves material and
+// reports it as unreachable), as stepover_chord() says.
+bool ball_fits(double r, double kappa) { return 1.0 + r * kappa > 0; }
+
+double scallop_with_error(double r, double c, double kappa, double e) {
+  if (!ball_fits(r, kappa)) return e;
+  const double grow = 1.0 + e * kappa;  // > 0: e < r
+  return e + scallop_for_chord(r - e, c * grow, kappa / grow);
+}
+
+double stepover_chord_with_error(double r, double h, double kappa, double e) {
+  if (!(h > e)) return 0.0;
+  if (!ball_fits(r, kappa)) return kInf;
+  const double grow = 1.0 + e * kappa;
+  return stepover_chord(r - e, h - e, kappa / grow) / grow;
+}
+
+StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p, double e)
+    : g_(g), r_(p.ball_radius), e_(e),
+      flat_(stepover_chord_with_error(p.ball_radius, p.scallop_height, 0.0, e)),
       nu_(g.patches_u()) {
   const std::size_t n = static_cast<std::size_t>(g.patches_u() * g.patches_v());
   kappa_.assign(n, 0.0);
@@ -73,11 +101,12 @@ StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p)
         }
       const std::size_t k = static_cast<std::size_t>(j * nu_ + i);
       kappa_[k] = hi >= lo ? hi + 0.25 * (hi - lo) : 0.0;
-      if (p.scallop_bound == IsoScallopBound::Curvature) {
-        // Concave ground would allow a wider step; take at most twice the
-        // flat one, which also bounds the step where the ball cannot reach.
-        delta_[k] = std::min(2.0 * flat_, stepover_chord(r_, p.scallop_height, kappa_[k]));
-      }
+      // Concave ground would allow a wider step; the curvature bound takes
+      // at most twice the flat one (which also bounds the step where the
+      // ball cannot reach), the flat bound never more than the flat one.
+      const double curved = stepover_chord_with_error(r_, p.scallop_height, kappa_[k], e_);
+      delta_[k] = p.scallop_bound == IsoScallopBound::Curvature ? std::min(2.0 * flat_, curved)
+                                                                : std::min(flat_, curved);
     }
 }
 
@@ -105,7 +134,7 @@ double StepoverField::max_delta() const {
 double StepoverField::scallop(int i, double v1, double v2, double c) const {
   double h = 0.0;
   rows(v1, v2, [&](std::size_t row) {
-    h = std::max(h, scallop_for_chord(r_, c, kappa_[row + static_cast<std::size_t>(i)]));
+    h = std::max(h, scallop_with_error(r_, c, kappa_[row + static_cast<std::size_t>(i)], e_));
   });
   return h;
 }

@@ -29,6 +29,31 @@ double stepover_chord(double r, double h, double kappa);
 // c apart on ground of curvature kappa (r if the balls do not meet).
 double scallop_for_chord(double r, double c, double kappa);
 
+// The same with the ball centres off the offset S + r N by up to e (the
+// chords' sag and the rounding of the posted coordinates): every point
+// within r - e of the ideal centres is still cut, so what is left lies
+// outside balls of radius r - e about them, which touch S + e N (curvature
+// kappa / (1 + e kappa), contact chords scaled by 1 + e kappa). Material
+// left above S: e plus the cusp of those balls above S + e N.
+double scallop_with_error(double r, double c, double kappa, double e);
+// Inverse in c: the chord between contact points on S that leaves at most
+// h above S with centre error e (needs e < h; +inf where no cusp forms).
+double stepover_chord_with_error(double r, double h, double kappa, double e);
+
+// How the two user budgets are split (isocurve_job.cpp, split_budget()).
+// Material left above the design: e + cusp <= scallop_height, with e =
+// chord + posted the largest distance of a posted ball centre from the
+// exact offset. Cut below the design: chord + gouge + posted <=
+// overcut_tolerance (the clearance check keeps every computed centre at
+// least r - chord - gouge from the model; rounding moves it by posted).
+struct ErrorBudget {
+  double chord = 0.0;   // chord tolerance of the linearisation
+  double gouge = 0.0;   // accuracy of the clearance check
+  double posted = 0.0;  // sqrt(3)/2 x the posted resolution
+  double centre_error() const { return chord + posted; }
+  double overcut() const { return chord + gouge + posted; }
+};
+
 // Per patch of a working grid (its curves are the iso-v curves): the largest
 // curvature across the feed, and the iso-distance tolerance delta that keeps
 // the scallop under h there. The curvature is sampled (4 x 4 per patch) and
@@ -36,13 +61,17 @@ double scallop_for_chord(double r, double c, double kappa);
 // between samples.
 class StepoverField {
  public:
-  StepoverField(const PatchGrid& g, const IsoParams& p);
+  // `e`: the centre error of the budget (scallop_with_error()).
+  StepoverField(const PatchGrid& g, const IsoParams& p, double e);
   // The tolerance for the strip between iso-v levels v1 < v2 over u-span i:
   // the smallest over the patch rows the strip touches. Flat bound: the
-  // flat delta everywhere.
+  // flat delta, but never more than the curvature bound's on convex ground
+  // (so that the guarantee holds there too); the curvature bound: up to
+  // twice the flat delta on concave ground.
   double delta(int i, double v1, double v2) const;
   // The scallop height guaranteed where adjacent curves over u-span i,
-  // between v1 and v2, are at most c apart: the largest over those rows.
+  // between v1 and v2, are at most c apart: the largest over those rows,
+  // the centre error included (scallop_with_error()).
   double scallop(int i, double v1, double v2, double c) const;
   double flat_delta() const { return flat_; }
   // The largest tolerance of any patch.
@@ -52,7 +81,7 @@ class StepoverField {
   template <class F>
   void rows(double v1, double v2, F f) const;
   const PatchGrid& g_;
-  double r_, flat_;
+  double r_, e_, flat_;
   int nu_;
   std::vector<double> kappa_, delta_;
 };

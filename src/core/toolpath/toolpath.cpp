@@ -20,13 +20,25 @@ PathLengths measure(const Toolpath& path) {
     switch (static_cast<MoveKind>(path.kind[i])) {
       case MoveKind::Feed: m.feed += len; break;
       case MoveKind::Plunge: m.plunge += len; break;
+      case MoveKind::Ramp: m.ramp += len; break;
       case MoveKind::Rapid:
         m.rapid += len;
         if (dz > 0 && std::abs(dx) + std::abs(dy) < 1e-12) ++m.retracts;
         break;
+      default: break;
     }
   }
   return m;
+}
+
+PathTimes estimate_time(const Toolpath& path, double feed, double plunge, double rapid) {
+  const PathLengths len = measure(path);
+  PathTimes t;
+  t.feed = 60.0 * len.feed / feed;
+  t.plunge = 60.0 * len.plunge / plunge + 60.0 * len.ramp / feed;
+  t.rapid = 60.0 * len.rapid / rapid;
+  t.total = t.feed + t.plunge + t.rapid;
+  return t;
 }
 
 }  // namespace isocam

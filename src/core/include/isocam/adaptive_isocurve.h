@@ -20,6 +20,26 @@
 // where it curves tighter than the ball, trimmed faces counting only inside
 // their wires, the path is cut away there, and the length left out is
 // reported.
+//
+// The guarantees (GuaranteedScallop, GuaranteedOvercut of the FreeCAD op).
+// Let c be the chord tolerance, g the gouge tolerance and p = sqrt(3)/2 x
+// posted_resolution (the most that rounding each posted axis to half a step
+// moves a point). Every exact ball centre of a pass is within e = c + p of a
+// posted one, so everything within r - e of the exact centres is cut: the
+// material left above the design is at most e plus the cusp of balls of
+// radius r - e on the design offset by e (scallop_with_error(),
+// finishing/stepover.h), which the curves are spaced for:
+//   guaranteed_scallop = max over adjacent pairs (e + cusp) <= scallop_height.
+// Every computed centre of a feed move (pass, link, fed entry) keeps r - c - g
+// from the whole model (the clearance check, geometry/clearance.h), a posted
+// one r - c - g - p, so nothing is cut deeper than
+//   guaranteed_overcut = c + g + p <= overcut_tolerance.
+// c is derived unless overridden: c = min(overcut_tolerance - g - p,
+// (scallop_height - p) / 4); an override must fit both budgets. Rapid moves
+// keep air_clearance + r from the whole model, but a lift straight up from
+// a cutting position, which keeps the cutting clearance r - c - g as the fed
+// entries do (finishing/coverage.h, link_pieces()). Not covered: faces listed in `warnings` as not
+// protected, and the length reported as unreachable (material left there).
 #pragma once
 
 #include <string>
@@ -55,20 +75,39 @@ enum class IsoPlaneAxis {
   Y,     // planes y = const (the passes run along x)
 };
 
+// Both keep guaranteed_scallop <= scallop_height.
 enum class IsoScallopBound {
-  Flat,       // the paper's: delta for flat ground everywhere
-  Curvature,  // delta per patch from the curvature across the feed
+  Flat,       // the paper's flat-ground delta, narrowed as Curvature's on convex ground
+  Curvature,  // delta per patch from the curvature across the feed (up to 2 x flat)
 };
 
 struct IsoParams {
-  double ball_radius = 3.0;       // mm, > 0
-  double scallop_height = 0.01;   // mm, 0 < h < ball_radius
-  double chord_tolerance = 0.01;  // mm, > 0
+  double ball_radius = 3.0;        // mm, > 0
+  // The two budgets (see "The guarantees" above): the most material left
+  // above the design where the ball reaches, and the deepest cut below it.
+  double scallop_height = 0.01;     // mm, 0 < h < ball_radius
+  double overcut_tolerance = 0.005; // mm, gouge_tolerance + posted rounding < it < ball_radius
+  // 0: derived from the budgets (min(overcut room, (h - posted) / 4)); > 0:
+  // an override, which must fit both budgets (the certificate includes it).
+  double chord_tolerance = 0.0;     // mm, >= 0
+  // The step of the coordinates the post-processor writes: 0.001 for 3
+  // decimals (FreeCAD's linuxcnc post by default); 0 if it writes them
+  // exactly. Each axis is rounded by up to half of it.
+  double posted_resolution = 0.001; // mm, >= 0, < 0.1
   IsoDirection direction = IsoDirection::Auto;
   IsoPattern pattern = IsoPattern::Adaptive;
   IsoScallopBound scallop_bound = IsoScallopBound::Curvature;
   IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes only
   double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
+  // The gap kept between the ball and the model by rapid moves between
+  // passes (hops), and the height above an entry point from which the
+  // entry is fed: stock left thinner than this is safe from rapids.
+  double air_clearance = 1.0;     // mm, > 0
+  // Rates of the machine-time estimate (and of the choice between a feed
+  // link and a hop): horizontal feed, vertical (pure-Z) feed, rapids.
+  double feed_rate = 1200.0;      // mm/min, > 0
+  double plunge_rate = 400.0;     // mm/min, > 0
+  double rapid_rate = 5000.0;     // mm/min, > 0
   int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
   double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
   // Keep the ball clear of the faces not picked too (the whole model; each
@@ -95,23 +134,35 @@ struct SubIsocurve {
 };
 
 struct IsoMetrics {
-  double delta = 0.0;             // the flat-ground iso-distance tolerance
+  // The flat-ground iso-distance tolerance: the stepover whose cusp is what
+  // the budget leaves, e + cusp(r - e) = scallop_height (e = chord + posted).
+  double delta = 0.0;
   // The largest tolerance used on any patch (the curvature bound allows up
   // to 2 delta on concave ground, less than delta on convex ground): the
   // delta of Definition 1 that the coverage meets everywhere.
   double delta_max = 0.0;
   double cutting_length = 0.0;    // feed moves (mm)
   double rapid_length = 0.0;      // rapid moves (mm)
-  double plunge_length = 0.0;     // plunges from the safe height (mm)
+  double plunge_length = 0.0;     // fed entries: plunges (vertical feed) and ramps (mm)
+  // Estimated with the rates of IsoParams (s): every move, the first (from
+  // wherever the machine is) excepted; and the feed moves alone (the passes
+  // and the links along the surface, not the entries).
+  double machine_time = 0.0;
+  double cutting_time = 0.0;
+  double chord_tolerance = 0.0;   // the chord tolerance used (derived or the override)
   int sub_isocurves = 0;
   int retracts = 0;
   double max_iso_distance = 0.0;  // largest iso-distance left between adjacent curves
-  // The scallop height the coverage guarantees: over every accepted pair of
-  // adjacent curves, the cusp left by its largest iso-distance on ground of
-  // the largest curvature across the feed there (sampled per patch, see
-  // finishing/stepover.h). With the flat bound it can exceed the requested
-  // height on convex ground; with the curvature bound it does not.
+  // The most material left above the design where the ball reaches (see
+  // "The guarantees"): over every accepted pair of adjacent curves, the
+  // cusp of its largest iso-distance on ground of the largest curvature
+  // across the feed there (sampled per patch, finishing/stepover.h), for
+  // centres off the exact offset by chord + posted rounding, plus that
+  // error. <= scallop_height under either bound.
   double guaranteed_scallop = 0.0;
+  // The deepest cut below the design: chord + gouge tolerance + posted
+  // rounding, <= overcut_tolerance.
+  double guaranteed_overcut = 0.0;
   // L* = integral over the picked faces (inside their wires) of dA / w_max:
   // a lower bound on the cutting length of any path with that scallop.
   double lower_bound_length = 0.0;

@@ -11,7 +11,9 @@ namespace isocam {
 enum class MoveKind : std::uint8_t {
   Rapid = 0,   // G0
   Feed = 1,    // G1 at horizontal feed (cutting and linking moves)
-  Plunge = 2,  // G1 at vertical feed (entry from the safe height)
+  Plunge = 2,  // G1 at vertical feed: the fed part of an entry, straight down (or along the normal)
+  // 3 and 4 are the pocketing's arcs (isocam/pocketing.h).
+  Ramp = 5,    // G1 at horizontal feed: the fed part of an entry, a ramp down along the pass
 };
 
 // Move i goes from the end of move i-1 (the machine's position before the
@@ -37,8 +39,21 @@ struct PathLengths {
   double feed = 0.0;
   double rapid = 0.0;
   double plunge = 0.0;
+  double ramp = 0.0;
   int retracts = 0;  // rapid moves that go straight up
 };
 PathLengths measure(const Toolpath& path);
+
+// Time estimate (s) at constant rates (mm/min), no acceleration: rapids at
+// `rapid`, feed moves and ramps at `feed`, plunges at `plunge`; the first
+// move is not counted (as in measure()). `feed` is the feed moves' share
+// (the cutting time; entries are not in it).
+struct PathTimes {
+  double total = 0.0;
+  double feed = 0.0;
+  double plunge = 0.0;  // plunges and ramps: the fed entries
+  double rapid = 0.0;
+};
+PathTimes estimate_time(const Toolpath& path, double feed, double plunge, double rapid);
 
 }  // namespace isocam
