@@ -17,24 +17,19 @@ import subprocess
 import fc_test_support as support
 from freecad_ext import scripting
 
-# The linuxcnc post writes 3 decimals: each coordinate is off by up to
-# 0.0005 mm, the tool position by up to sqrt(3) times that.
-POST_ROUNDING = 0.0005 * math.sqrt(3)
-# The core's clearance check accuracy (IsoParams.gouge_tolerance default).
-GOUGE_TOLERANCE = 0.001
 
 
 def stated_bounds(op):
     """(most material left, deepest overcut) in mm that `op` states its posted
-    path keeps: the two numbers every simulation test asserts.
-
-    Until the op states both as certificate properties (issue 10), they are
-    read off what it promises today: the scallop height plus the chord sag
-    left on the material side, and the chord sag plus the clearance check's
-    tolerance below the design; each with the post's rounding."""
-    chord = op.ChordTolerance.Value
-    left = op.ScallopHeight.Value + chord + POST_ROUNDING
-    overcut = chord + GOUGE_TOLERANCE + POST_ROUNDING
+    path keeps: the two numbers every simulation test asserts. They are the
+    op's certificate (GuaranteedScallop, GuaranteedOvercut: chords, the
+    clearance check's tolerance and the post's rounding included), which the
+    op keeps within ScallopHeight and OvercutTolerance; the test checks that
+    too, so a certificate that grew past the user's budget fails here."""
+    left = op.GuaranteedScallop.Value
+    overcut = op.GuaranteedOvercut.Value
+    assert left <= op.ScallopHeight.Value + 1e-12, (left, op.ScallopHeight.Value)
+    assert overcut <= op.OvercutTolerance.Value + 1e-12, (overcut, op.OvercutTolerance.Value)
     return left, overcut
 
 
@@ -151,11 +146,12 @@ def check_measured(testcase, name, op, result, min_reachable=0.5):
     testcase.assertGreater(result["picked_samples"], 10000, name)
     testcase.assertGreater(result["reachable_fraction"], min_reachable, name)
     testcase.assertEqual(result["uncovered_samples"], 0, name)
-    # The cutting length the machine runs, as the sim measured it, is the op's.
+    # The fed length the machine runs, as the sim measured it, is the op's:
+    # its passes and links (CuttingLength) and its fed entries, plunged or
+    # ramped along the pass (PlungeLength).
+    fed = op.CuttingLength.Value + op.PlungeLength.Value
     testcase.assertAlmostEqual(
-        result["lengths"]["cutting"],
-        op.CuttingLength.Value,
-        delta=1e-3 * op.CuttingLength.Value + 1,
+        result["lengths"]["feed"], fed, delta=1e-3 * fed + 1
     )
 
 

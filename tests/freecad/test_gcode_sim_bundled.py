@@ -6,11 +6,13 @@ rs274 and simulated by tests/sim's isocam_gcode_sim; the measured material
 left and overcut must stay within sim_support.stated_bounds(op).
 
 Ball and shell1 break the bounds today (expectedFailure, with the numbers
-measured on main 14a6e77): both have faces under overhangs (Ball's sphere
-below its equator, shell1's undersides) that the op finishes from below, and
-the vertical plunges and retracts there go through the part above, with the
-ball's centre almost on the surface (overcut ~ r). When the op is fixed these
-tests report an unexpected success: drop the marker then.
+measured after the guarantees of issue 10): both have faces under overhangs
+(Ball's sphere below its equator, shell1's undersides) that the op finishes
+from below, although a vertical tool cannot reach them from above, and the
+lifts and entries there go through the part above, with the ball's centre
+almost on the surface (overcut ~ r). The op must leave such places out as
+unreachable (issue 15). When it does, these tests report an unexpected
+success, which fails the run: drop the marker then.
 
 Run: tests/freecad/run_in_freecad.sh tests/freecad/test_gcode_sim_bundled.py
 """
@@ -109,15 +111,13 @@ class BallTest(_Measured):
 
     @unittest.expectedFailure
     def test_left_within_stated(self):
-        # Measured 0.0926 mm (stated 0.0609) at (-6.69, -7.13, 6.13) on Face10,
-        # the sphere's underside.
+        # Measured 0.0785 mm (stated 0.0500) at (-1.96, -7.32, 0.00) on Face6.
         self.check_left()
 
     @unittest.expectedFailure
     def test_overcut_within_stated(self):
-        # Measured 0.996 mm (stated 0.0119) at (0.96, 10.09, 19.33) on Face10:
-        # the retract from a pass under the sphere (tip z 3.945) goes up
-        # through its top.
+        # Measured 0.998 mm (stated 0.0050) at (0.99, 8.22, 14.94) on Face16:
+        # a lift from a pass under the sphere goes up through its top.
         self.check_overcut()
 
 
@@ -130,14 +130,13 @@ class Shell1Test(_Measured):
 
     @unittest.expectedFailure
     def test_left_within_stated(self):
-        # Measured 0.0288 mm (stated 0.0209) at (90.99, 4.98, 3.30) on Face62,
-        # reachable even by a ball 0.05 mm larger.
+        # Measured 0.0129 mm (stated 0.0100) at (91.00, 9.75, 8.50) on Face58.
         self.check_left()
 
     @unittest.expectedFailure
     def test_overcut_within_stated(self):
-        # Measured 1.996 mm (stated 0.0119) on Face80/Face99/Face17: vertical
-        # plunges and retracts of passes under overhangs go through the part.
+        # Measured 1.996 mm (stated 0.0042) at (90.42, 5.28, 3.32) on Face62:
+        # the lift from a pass under an overhang goes up through the part.
         self.check_overcut()
 
 
