@@ -15,7 +15,11 @@ SCREENSHOTS = os.environ.get("ISOCAM_SCREENSHOT_DIR") or os.getcwd()
 DATA_DIR = os.environ.get("ISOCAM_TEST_DATA") or os.path.join(
     os.path.dirname(os.path.abspath(__file__)), "..", "data"
 )
-PATH_WORKBENCH = "PathWorkbench"
+
+from freecad_ext import compat  # noqa: E402  (the runner put the addon on sys.path)
+
+# The Path workbench under this FreeCAD's name (CAMWorkbench from 1.0 on).
+PATH_WORKBENCH = compat.workbench_name()
 
 _expected_dialogs = []  # predicates on a modal widget
 
@@ -58,7 +62,7 @@ def later(seconds, function):
 def prepare_main_window():
     window = FreeCADGui.getMainWindow()
     window.showMaximized()
-    for name in ("Report view", "Combo View"):
+    for name in ("Report view", "Combo View", "Model", "Tasks"):
         dock = window.findChild(QtGui.QDockWidget, name)
         if dock is not None:
             dock.show()
@@ -97,8 +101,14 @@ def screenshot(name, widget=None):
 
 
 def combo_view():
-    """The dock that holds the model tree and the task panels."""
-    return FreeCADGui.getMainWindow().findChild(QtGui.QDockWidget, "Combo View")
+    """The dock that holds the task panels: "Combo View" (model tree and
+    tasks in one) up to FreeCAD 1.0, "Tasks" (beside "Model") in 1.1."""
+    window = FreeCADGui.getMainWindow()
+    for name in ("Combo View", "Tasks"):
+        dock = window.findChild(QtGui.QDockWidget, name)
+        if dock is not None:
+            return dock
+    return None
 
 
 def report_view_text():
@@ -117,6 +127,27 @@ def dump_report_view(stream):
 
 
 # -- user actions ----------------------------------------------------------------
+
+
+def isocam_toolbar():
+    """The title of the toolbar that holds our commands: our own "IsoCAM"
+    toolbar on FreeCAD 0.20, the workbench's "New Operations" from 0.21 on
+    (where a workbench manipulator puts them)."""
+    from freecad_ext.gui import commands
+
+    if hasattr(FreeCADGui, "addWorkbenchManipulator"):
+        return commands.OPERATIONS_TOOLBAR
+    return commands.TOOLBAR
+
+
+def isocam_menu_path():
+    """Where our commands are in the menu bar: "&Path > IsoCAM" on 0.20,
+    the "&CAM" menu's operations submenu (after FreeCAD's Adaptive) on 1.x."""
+    from freecad_ext.gui import commands
+
+    if hasattr(FreeCADGui, "addWorkbenchManipulator"):
+        return ("&CAM" if compat.renamed_to_cam() else "&Path",)
+    return ("&Path", commands.SUBMENU)
 
 
 def toolbar_action(toolbar_title, command):
@@ -148,7 +179,22 @@ def menu_action(menu_path, command):
         menu.aboutToShow.emit()  # FreeCAD fills some menus on demand
         actions = menu.actions()
     ours = FreeCADGui.Command.get(command).getAction()
-    return next((a for a in actions if a in ours), None)
+    return _find_action(actions, ours)
+
+
+def _find_action(actions, ours):
+    """The first of `ours` among `actions` or in their submenus."""
+    for action in actions:
+        if action in ours:
+            return action
+    for action in actions:
+        menu = action.menu()
+        if menu is not None:
+            menu.aboutToShow.emit()
+            found = _find_action(menu.actions(), ours)
+            if found is not None:
+                return found
+    return None
 
 
 def type_text(widget, text, enter=False):
@@ -260,6 +306,29 @@ def answer_message_box(seen, timeout=20.0):
             seen.append(box.text())
             screenshot("message-box-%d" % len(seen))
             box.accept()
+        elif time.monotonic() < end:
+            later(0.1, poll)
+
+    later(0.1, poll)
+
+
+def answer_input_dialog(name, seen, value=None, accept=True, timeout=20.0):
+    """From the event loop, wait for the QInputDialog with objectName `name`,
+    record its label and value in `seen`, type `value` (if given) and press
+    OK (accept) or Cancel, as a user would."""
+    end = time.monotonic() + timeout
+
+    def poll():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if isinstance(dialog, QtGui.QInputDialog) and dialog.objectName() == name:
+            seen.append((dialog.labelText(), dialog.doubleValue()))
+            screenshot("input-dialog-%d" % len(seen))
+            if value is not None:
+                dialog.setDoubleValue(value)
+            if accept:
+                dialog.accept()
+            else:
+                dialog.reject()
         elif time.monotonic() < end:
             later(0.1, poll)
 

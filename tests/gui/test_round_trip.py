@@ -68,14 +68,14 @@ class RoundTrip(unittest.TestCase):
     def test_1_command_in_the_path_workbench(self):
         FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
         gui.wait_until(
-            lambda: gui.toolbar_action("IsoCAM", COMMAND) is not None,
+            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None,
             20,
             "the IsoCAM toolbar in the Path workbench",
         )
-        action = gui.toolbar_action("IsoCAM", COMMAND)
+        action = gui.toolbar_action(gui.isocam_toolbar(), COMMAND)
         self.assertFalse(action.icon().isNull())
         self.assertIn("ball-end", action.toolTip())
-        self.assertIsNotNone(gui.menu_action(("&Path", "IsoCAM"), COMMAND))
+        self.assertIsNotNone(gui.menu_action(gui.isocam_menu_path(), COMMAND))
         # Without a Job the command cannot run.
         self.assertFalse(action.isEnabled())
         # One command per table row whose module exists, none for the others.
@@ -105,13 +105,13 @@ class RoundTrip(unittest.TestCase):
         type(self).job = job
         self.doc.recompute()
         gui.pump(0.5)
-        self.assertTrue(gui.toolbar_action("IsoCAM", COMMAND).isEnabled())
+        self.assertTrue(gui.toolbar_action(gui.isocam_toolbar(), COMMAND).isEnabled())
 
     def test_3_command_opens_the_panel_which_checks_as_typed(self):
         clone = self.job.Model.Group[0]
         FreeCADGui.Selection.clearSelection()
         FreeCADGui.Selection.addSelection(self.doc.Name, clone.Name, "Face1")
-        gui.toolbar_action("IsoCAM", COMMAND).trigger()
+        gui.toolbar_action(gui.isocam_toolbar(), COMMAND).trigger()
         gui.wait_until(FreeCADGui.Control.activeDialog, 20, "the task panel")
         ops = _ops(self.doc)
         self.assertEqual(len(ops), 1)
