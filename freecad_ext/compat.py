@@ -3,7 +3,7 @@
 The rest of the glue imports FreeCAD Path/CAM modules only from here:
 
 ==================  =============================  ==================================
-name here           FreeCAD 0.20 (tested)          FreeCAD 0.21 / 1.0
+name here           FreeCAD 0.20                   FreeCAD 0.21 / 1.0 / 1.1
 ==================  =============================  ==================================
 PathOp              PathScripts.PathOp             Path.Op.Base
 PathLog             PathScripts.PathLog            Path.Log
@@ -12,7 +12,10 @@ PathUtils           PathScripts.PathUtils          PathScripts.PathUtils
 PathSetupSheet      PathScripts.PathSetupSheet     Path.Base.SetupSheet
 PathJob             PathScripts.PathJob            Path.Main.Job
 PathToolController  PathScripts.PathToolController Path.Tool.Controller
-tool_bit_module()   PathScripts.PathToolBit        Path.Tool.Bit
+tool_bit_module()   PathScripts.PathToolBit        Path.Tool.Bit (1.1: old documents only)
+make_tool_bit()     PathToolBit.Factory            1.1: Path.Tool.toolbit.ToolBit
+post_list()         None (the caller's 0.20 list)  Path.Post.Processor's factory
+update_spin_box()   helper.updateSpinBox()         1.1: helper.updateWidget()
 load_post_script()  PathScripts.post.<name>_post   Path.Post.scripts.<name>[_legacy]_post
 gui().OpGui         PathScripts.PathOpGui          Path.Op.Gui.Base
 gui().Selection     PathScripts.PathSelection      Path.Op.Gui.Selection
@@ -26,9 +29,10 @@ FreeCAD 1.0 also renamed the workbench (PathWorkbench -> CAMWorkbench), its
 commands (Path_Post -> CAM_Post) and its preference group; see
 :func:`renamed_to_cam` and the names derived from it.
 
-Only FreeCAD 0.20.2 is exercised for real by the tests; the 0.21/1.0 names
-follow FreeCAD's own module moves, are tried first, and are checked against a
-faked package layout (tests/python/test_compat_layout.py).
+`./run test` exercises every branch for real: FreeCAD 0.20.2 (Debian
+bookworm), 1.0.0 (trixie) and 1.1 (sid), headless and in the GUI; the module
+names are also checked against faked package layouts
+(tests/python/test_compat_layout.py).
 """
 
 import contextlib

@@ -58,6 +58,7 @@ class BadInput(unittest.TestCase):
         cls.good.Base = [(cls.mat_clone, ["Face1"])]
         cls.good.ScallopHeight = 0.05
         doc.recompute()
+        gui.settle(doc)
         gui.set_view(doc.Name, on=[cls.mat_clone])
 
     def run_command(self, faces=()):
@@ -68,7 +69,7 @@ class BadInput(unittest.TestCase):
         for obj, sub in faces:
             FreeCADGui.Selection.addSelection(self.doc.Name, obj.Name, sub)
         known = {o.Name for o in _our_ops(self.doc)}
-        gui.toolbar_action(gui.isocam_toolbar(), COMMAND).trigger()
+        gui.trigger(gui.toolbar_action(gui.isocam_toolbar(), COMMAND))
         gui.wait_until(
             lambda: gui.task_button(QtGui.QDialogButtonBox.Ok), 20, "the task panel"
         )
@@ -88,7 +89,8 @@ class BadInput(unittest.TestCase):
             self.assertIn(fragment, message)
             self.assertIn(fragment, gui.report_view_text())
         self.assertEqual(len(op.Path.Commands), 0)
-        self.assertEqual(gui.snapshot(self.doc, skip=[op.Name]), before)
+        after = gui.snapshot(self.doc, skip=[op.Name])
+        self.assertEqual(gui.snapshot_changes(after, before), [])
         self.assertNotIn("Invalid", self.good.State)
         return message
 
@@ -167,7 +169,7 @@ class BadInput(unittest.TestCase):
 
         gui.answer_input_dialog(commands.BALL_END_OFFER, seen, **answer)
         with gui.expect_dialog(lambda w: isinstance(w, QtGui.QInputDialog)):
-            gui.toolbar_action(gui.isocam_toolbar(), COMMAND).trigger()
+            gui.trigger(gui.toolbar_action(gui.isocam_toolbar(), COMMAND))
             gui.wait_until(lambda: seen, 20, "the ball-end offer")
 
     def test_fresh_job_declining_the_ball_end_offer_changes_nothing(self):
