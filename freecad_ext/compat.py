@@ -3,7 +3,7 @@
 The rest of the glue imports FreeCAD Path/CAM modules only from here:
 
 ==================  =============================  ==================================
-name here           FreeCAD 0.20 (tested)          FreeCAD 0.21 / 1.0
+name here           FreeCAD 0.20                   FreeCAD 0.21 / 1.0 / 1.1
 ==================  =============================  ==================================
 PathOp              PathScripts.PathOp             Path.Op.Base
 PathLog             PathScripts.PathLog            Path.Log
@@ -12,7 +12,10 @@ PathUtils           PathScripts.PathUtils          PathScripts.PathUtils
 PathSetupSheet      PathScripts.PathSetupSheet     Path.Base.SetupSheet
 PathJob             PathScripts.PathJob            Path.Main.Job
 PathToolController  PathScripts.PathToolController Path.Tool.Controller
-tool_bit_module()   PathScripts.PathToolBit        Path.Tool.Bit
+tool_bit_module()   PathScripts.PathToolBit        Path.Tool.Bit (1.1: old documents only)
+make_tool_bit()     PathToolBit.Factory            1.1: Path.Tool.toolbit.ToolBit
+post_list()         None (the caller's 0.20 list)  Path.Post.Processor's factory
+update_spin_box()   helper.updateSpinBox()         1.1: helper.updateWidget()
 load_post_script()  PathScripts.post.<name>_post   Path.Post.scripts.<name>[_legacy]_post
 gui().OpGui         PathScripts.PathOpGui          Path.Op.Gui.Base
 gui().Selection     PathScripts.PathSelection      Path.Op.Gui.Selection
@@ -26,9 +29,10 @@ FreeCAD 1.0 also renamed the workbench (PathWorkbench -> CAMWorkbench), its
 commands (Path_Post -> CAM_Post) and its preference group; see
 :func:`renamed_to_cam` and the names derived from it.
 
-Only FreeCAD 0.20.2 is exercised for real by the tests; the 0.21/1.0 names
-follow FreeCAD's own module moves, are tried first, and are checked against a
-faked package layout (tests/python/test_compat_layout.py).
+`./run test` exercises every branch for real: FreeCAD 0.20.2 (Debian
+bookworm), 1.0.0 (trixie) and 1.1 (sid), headless and in the GUI; the module
+names are also checked against faked package layouts
+(tests/python/test_compat_layout.py).
 """
 
 import contextlib
@@ -84,12 +88,95 @@ def __getattr__(name):
     return module
 
 
-def tool_bit_module():
-    """The ToolBit module (its ``Factory.Create(name, shapeFile)`` makes a bit).
+def version_tuple(version=None):
+    """(major, minor) of `version` (FreeCAD.Version(), a list of strings) or
+    of the running FreeCAD; (0, 0) if it cannot be read."""
+    version = FreeCAD.Version() if version is None else version
+    try:
+        return int(version[0]), int(version[1])
+    except (IndexError, TypeError, ValueError):
+        return 0, 0
 
-    Imported lazily: FreeCAD 1.1 replaced it and the op itself never needs it.
-    """
+
+def tool_bit_module():
+    """The ToolBit module of FreeCAD 0.20 / 1.0 (``Factory.Create(name,
+    shapeFile)`` makes a bit). FreeCAD 1.1 keeps ``Path.Tool.Bit`` only to open
+    old documents; use :func:`make_tool_bit`, which knows both."""
     return _import_first("Path.Tool.Bit", "PathScripts.PathToolBit")
+
+
+def _toolbit_class():
+    """FreeCAD 1.1's ToolBit asset class (Path.Tool.toolbit.ToolBit), or None
+    before 1.1."""
+    try:
+        module = importlib.import_module("Path.Tool.toolbit")
+    except ModuleNotFoundError:
+        return None
+    cls = getattr(module, "ToolBit", None)
+    return cls if hasattr(cls, "from_dict") else None
+
+
+def make_tool_bit(doc, shape_file, diameter, label):
+    """A ToolBit document object in `doc` of FreeCAD's shape `shape_file`
+    (e.g. "ballend.fcstd", as shipped with FreeCAD) with `diameter` (mm).
+
+    FreeCAD 1.1: a ToolBit asset made from its shape id, then attached to the
+    document (what FreeCAD's own CAMTests do). 0.20 / 1.0: the ToolBit
+    module's Factory, which adds to the active document.
+    """
+    cls = _toolbit_class()
+    if cls is not None:
+        shape_id = os.path.splitext(os.path.basename(shape_file))[0]
+        asset = cls.from_dict(
+            {
+                "name": label,
+                "shape": shape_id,
+                "parameter": {"Diameter": diameter},
+                "attribute": {},
+            }
+        )
+        bit = asset.attach_to_doc(doc=doc, label=label)
+    else:
+        with active_document(doc):
+            bit = tool_bit_module().Factory.Create("ToolBit", shape_file)
+    bit.Diameter = diameter
+    bit.Label = label
+    return bit
+
+
+def post_processor_factory():
+    """FreeCAD 1.0+'s Path.Post.Processor.PostProcessorFactory, or None."""
+    try:
+        module = importlib.import_module("Path.Post.Processor")
+    except ModuleNotFoundError:
+        return None
+    return getattr(module, "PostProcessorFactory", None)
+
+
+def post_list(job, postname):
+    """The objects to post for `job`, in the order and with the fixture
+    set-up of this FreeCAD's own post command.
+
+    FreeCAD 1.0+: the post processor's own list (job.OrderOutputBy,
+    SplitOutput sections joined); it writes no G0 Z before the first tool
+    change, on purpose (no move before G43). FreeCAD 0.20: None, and the
+    caller builds 0.20's "order by fixture" list itself, which goes to
+    clearance height after each fixture's G54.
+    """
+    factory = post_processor_factory()
+    if factory is None:
+        return None
+    processor = factory.get_post_processor(job, postname)
+    if processor is None:
+        raise ImportError("IsoCAM: FreeCAD has no post processor %r" % postname)
+    return [item for _, section in processor._buildPostList() for item in section]
+
+
+def update_spin_box(helper):
+    """Show the bound property's value in a Path QuantitySpinBox helper:
+    ``updateWidget()`` from FreeCAD 1.1 on, ``updateSpinBox()`` before."""
+    update = getattr(helper, "updateWidget", None) or helper.updateSpinBox
+    update()
 
 
 def load_post_script(name):
@@ -137,12 +224,12 @@ def renamed_to_cam(version=None):
     `version` is FreeCAD.Version() (a list of strings) or None for the
     running FreeCAD.
     """
-    version = FreeCAD.Version() if version is None else version
-    try:
-        major, minor = int(version[0]), int(version[1])
-    except (IndexError, TypeError, ValueError):
-        return False
-    return (major, minor) >= (1, 0)
+    return version_tuple(version) >= (1, 0)
+
+
+def workbench_name():
+    """The Path (CAM) workbench's name in this FreeCAD."""
+    return PATH_WORKBENCHES[1] if renamed_to_cam() else PATH_WORKBENCHES[0]
 
 
 def path_command(name):

@@ -31,10 +31,10 @@ def make_tool_controller(
     shipped with FreeCAD) and a tool controller for it, added to `job`."""
     number = job.Proxy.nextToolNumber() if number is None else number
     shape = shape_file.split(".")[0]
-    with compat.active_document(job.Document):  # the factories add to it
-        bit = compat.tool_bit_module().Factory.Create("ToolBit", shape_file)
-        bit.Diameter = diameter
-        bit.Label = "%s %g mm" % (shape, diameter)
+    bit = compat.make_tool_bit(
+        job.Document, shape_file, diameter, "%s %g mm" % (shape, diameter)
+    )
+    with compat.active_document(job.Document):  # the factory adds to it
         tc = compat.PathToolController.Create(
             label or "TC: %s %g mm" % (shape, diameter), tool=bit, toolNumber=number
         )
@@ -63,10 +63,14 @@ class _FixtureSetup:
         )
 
 
-def post_list(job):
-    """Objects to post, in FreeCAD's "order by fixture" layout: per fixture
-    its set-up, then the active ops, each preceded by its tool controller
-    when the tool changes."""
+def post_list(job, postname="linuxcnc"):
+    """Objects to post, as this FreeCAD's post command lists them (FreeCAD
+    1.0+: its post processor's own list, see compat.post_list). On 0.20,
+    FreeCAD's "order by fixture" layout: per fixture its set-up, then the
+    active ops, each preceded by its tool controller when the tool changes."""
+    objects = compat.post_list(job, postname)
+    if objects is not None:
+        return objects
     objects = []
     for fixture in job.Fixtures:
         objects.append(_FixtureSetup(job, fixture))
@@ -85,7 +89,7 @@ def post_list(job):
 def post_job(job, filename, postname="linuxcnc", args="--no-show-editor"):
     """Post `job` with FreeCAD's post script `postname` to `filename`; returns the G-code."""
     script = compat.load_post_script(postname)
-    return script.export(post_list(job), filename, args)
+    return script.export(post_list(job, postname), filename, args)
 
 
 # -- checking posted G-code with LinuxCNC's interpreter ---------------------

@@ -180,7 +180,15 @@ def draw(op, face, png):
         linewidth=0,
         alpha=0.6,
     )
-    side.add_collection3d(Line3DCollection(feeds[::3], colors="k", linewidths=0.35))
+    # Two-point segments, not the ragged polylines: matplotlib 3.10's
+    # Line3DCollection turns its segments into one array (matplotlib issue
+    # 30418), which polylines of different lengths cannot make.
+    segments = [
+        np.stack([f[:-1], f[1:]], axis=1) for f in feeds[::3] if len(f) > 1
+    ]
+    side.add_collection3d(
+        Line3DCollection(np.concatenate(segments), colors="k", linewidths=0.35)
+    )
     side.view_init(elev=38, azim=-58)
     side.set_box_aspect(tuple(np.ptp(xyz, axis=0)))
     side.set_xlabel("x (mm)")

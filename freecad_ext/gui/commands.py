@@ -113,6 +113,46 @@ def _choose_tool_controller(spec, job):
     return compat.gui().UtilsGui.PathUtilsUserInput().chooseToolController(fitting)
 
 
+BALL_END_OFFER = "IsoCAMBallEndOffer"  # the dialog's objectName
+DEFAULT_BALL_DIAMETER = 6.0  # mm
+
+
+def _offer_ball_end_tool_controller(spec, job):
+    """A Job with no ball-end tool (a new Job has only FreeCAD's 5 mm end
+    mill): offer to add a ball-end tool controller, diameter asked. Returns
+    the new tool controller, or None if the user declines."""
+    dialog = QtGui.QInputDialog(FreeCADGui.getMainWindow())
+    dialog.setObjectName(BALL_END_OFFER)
+    dialog.setWindowTitle("IsoCAM")
+    dialog.setInputMode(QtGui.QInputDialog.DoubleInput)
+    dialog.setLabelText(
+        "%s needs a ball-end tool and Job '%s' has none.\n"
+        "Add a ball-end tool controller of diameter (mm):"
+        % (spec.menu_text, job.Label)
+    )
+    dialog.setDoubleDecimals(3)
+    dialog.setDoubleRange(0.1, 100.0)
+    dialog.setDoubleValue(DEFAULT_BALL_DIAMETER)
+    dialog.setOkButtonText("Add tool controller")
+    run = getattr(dialog, "exec", None) or dialog.exec_  # PySide6 / PySide2
+    if run() != QtGui.QDialog.Accepted:
+        return None
+    diameter = dialog.doubleValue()
+    from freecad_ext import scripting
+
+    doc = job.Document
+    doc.openTransaction("Add ball-end tool controller")
+    try:
+        tc = scripting.make_ball_end_tool_controller(job, diameter)
+    except Exception as exc:
+        doc.abortTransaction()
+        _tell_user("the ball-end tool controller could not be added: %s" % exc)
+        return None
+    doc.commitTransaction()
+    doc.recompute()
+    return tc
+
+
 def create_operation(spec):
     """What the command does; returns the new op or None."""
     doc = FreeCAD.ActiveDocument
@@ -120,6 +160,14 @@ def create_operation(spec):
     if job is None:
         return None
     tc = _choose_tool_controller(spec, job)
+    if tc is None and ("ball_end",) in spec.rules:
+        tc = _offer_ball_end_tool_controller(spec, job)
+        if tc is None:
+            FreeCAD.Console.PrintMessage(
+                "IsoCAM: %s not created: Job '%s' has no ball-end tool.\n"
+                % (spec.menu_text, job.Label)
+            )
+            return None
     if tc is None:
         needs = "a ball-end tool" if ("ball_end",) in spec.rules else "a tool"
         _tell_user(

@@ -42,17 +42,31 @@ class QuantityBinding:
         self.widget = widget
         self.prop = prop
         self.helper = compat.gui().GuiUtil.QuantitySpinBox(widget, obj, prop)
+        self.edited_text = None  # the last text the user typed
+        line_edit = widget.findChild(QtGui.QLineEdit)
+        if line_edit is not None:  # textEdited: the user's edits only
+            line_edit.textEdited.connect(self._on_edited)
+
+    def _on_edited(self, text):
+        self.edited_text = text
 
     def to_property(self):
         self.helper.updateProperty()
+        value = self.typed()
+        prop = getattr(self.helper.obj, self.prop)
+        if (
+            value is not None
+            and value != prop.Value
+            and not self.helper.expression()
+        ):  # the spin box rounded what the user typed
+            setattr(self.helper.obj, self.prop, FreeCAD.Units.Quantity(value, prop.Unit))
 
     def from_property(self):
-        self.helper.updateSpinBox()
+        compat.update_spin_box(self.helper)
+        self.edited_text = None
 
-    def typed(self):
-        """The value as typed, in mm (or the property's base unit); None if
-        the text is not a quantity of the property's kind."""
-        text = self.widget.text().strip()
+    def _parse(self, text):
+        text = (text or "").strip()
         if not text:  # FreeCAD parses "" as the smallest positive double
             return None
         try:
@@ -64,11 +78,37 @@ class QuantityBinding:
             return None
         return quantity.Value
 
+    def typed(self):
+        """The value as typed, in mm (or the property's base unit); None if
+        the text is not a quantity of the property's kind.
+
+        FreeCAD 1.1's spin box rounds its text to the user's decimals (2 by
+        default) when it loses focus: 0.002 mm typed shows as 0.00 mm. While
+        the text shown is only that rounding of what the user typed, what
+        the user typed counts."""
+        shown = self._parse(self.widget.text())
+        edited = self._parse(self.edited_text)
+        if edited is not None and shown is not None and edited != shown:
+            decimals = _decimals_shown(self.widget.text())
+            if abs(edited - shown) <= 0.5 * 10.0**-decimals * (1 + 1e-9):
+                return edited
+        return shown
+
     def update_signals(self):
         return [self.widget.editingFinished]
 
     def live_signals(self):
         return [self.widget.textChanged]
+
+
+def _decimals_shown(text):
+    """Digits after the decimal separator in a spin box text like "0.00 mm"."""
+    number = text.strip().split(" ")[0]
+    for separator in (".", ","):
+        if separator in number:
+            tail = number.split(separator, 1)[1]
+            return len(tail) - len(tail.lstrip("0123456789"))
+    return 0
 
 
 class EnumBinding:

@@ -83,7 +83,9 @@ PYBIND11_MODULE(isocam_core, m) {
     } catch (const InvalidArgument& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const Cancelled& e) {
-      cancelled(e.what());
+      // The C API call, not cancelled(e.what()): pybind11 2.12 deprecates
+      // that call operator, and its replacement py::set_error is not in 2.10.
+      PyErr_SetString(cancelled.ptr(), e.what());
     } catch (const GeometryError& e) {
       PyErr_SetString(PyExc_RuntimeError, e.what());
     }

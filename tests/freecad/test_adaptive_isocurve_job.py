@@ -197,6 +197,18 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         n = tc.ToolNumber
         self.assertIn("M6 T%d" % n, lines)
         self.assertIn("G43 H%d" % n, lines)
+        # Each version's own post-processing: FreeCAD 1.0+ moves nothing
+        # before the first tool change (no move before G43); 0.20's post
+        # command goes to clearance height after the fixture's G54.
+        before_m6 = lines[: lines.index("M6 T%d" % n)]
+        moves = [
+            line for line in before_m6 if line.split(" ")[0] in ("G0", "G1", "G00", "G01")
+        ]
+        if compat.version_tuple() >= (1, 0):
+            self.assertEqual(moves, [])
+        else:
+            self.assertEqual(len(moves), 1)
+            self.assertTrue(moves[0].startswith("G0 Z"), moves)
         start = lines.index("(%s)" % op.Label)
         clear, safe = op.ClearanceHeight.Value, op.SafeHeight.Value
         _, x0, y0, _ = support.path_points(op.Path)[2]

@@ -15,7 +15,11 @@ SCREENSHOTS = os.environ.get("ISOCAM_SCREENSHOT_DIR") or os.getcwd()
 DATA_DIR = os.environ.get("ISOCAM_TEST_DATA") or os.path.join(
     os.path.dirname(os.path.abspath(__file__)), "..", "data"
 )
-PATH_WORKBENCH = "PathWorkbench"
+
+from freecad_ext import compat  # noqa: E402  (the runner put the addon on sys.path)
+
+# The Path workbench under this FreeCAD's name (CAMWorkbench from 1.0 on).
+PATH_WORKBENCH = compat.workbench_name()
 
 _expected_dialogs = []  # predicates on a modal widget
 
@@ -56,18 +60,56 @@ def later(seconds, function):
 
 
 def prepare_main_window():
+    """The main window over the whole screen, its docks shown."""
     window = FreeCADGui.getMainWindow()
     window.showMaximized()
-    for name in ("Report view", "Combo View"):
+    for name in ("Report view", "Combo View", "Model", "Tasks"):
         dock = window.findChild(QtGui.QDockWidget, name)
         if dock is not None:
             dock.show()
     pump(0.2)
+    arrange_window()
     widen_combo_view()
+
+
+def arrange_window():
+    """Undo what FreeCAD 1.1 (Qt 6) does to the window after start-up, before
+    each screenshot (idempotent).
+
+    Its screen grabs came out "scaled": the screen is 1600 x 1000 at a device
+    pixel ratio of 1 (measured), but 1.1 puts its main window back to 2/3 of
+    the screen after the runner maximised it, and under Xvfb no window
+    manager maximises it again, so the window filled the top-left 2/3 of a
+    black grab. The geometry is set to the screen's. 1.1 also splits 0.20's
+    "Combo View" into "Model" and "Tasks" docks and may float "Tasks": it is
+    tabbed onto Model, where the Combo View's task tab was."""
+    window = FreeCADGui.getMainWindow()
+    screen = QtGui.QGuiApplication.primaryScreen().availableGeometry()
+    if window.geometry() != screen:
+        window.setGeometry(screen)
+    model = window.findChild(QtGui.QDockWidget, "Model")
+    tasks = window.findChild(QtGui.QDockWidget, "Tasks")
+    if model is not None and tasks is not None:
+        if tasks.isFloating() or tasks not in window.tabifiedDockWidgets(model):
+            tasks.setFloating(False)
+            window.addDockWidget(QtCore.Qt.LeftDockWidgetArea, tasks)
+            window.tabifyDockWidget(model, tasks)
+    pump(0.05)
+
+
+def show_tasks():
+    """FreeCAD 1.1: bring the "Tasks" dock to the front while a task dialog
+    is open (up to 1.0 the Combo View switches to its task tab itself)."""
+    tasks = FreeCADGui.getMainWindow().findChild(QtGui.QDockWidget, "Tasks")
+    if tasks is not None and FreeCADGui.Control.activeDialog():
+        arrange_window()
+        tasks.show()
+        tasks.raise_()
 
 
 def widen_combo_view(width=440):
     """Room for the task panels (workbench switches may narrow it again)."""
+    show_tasks()
     combo = combo_view()
     if combo is not None and combo.width() < width:
         FreeCADGui.getMainWindow().resizeDocks([combo], [width], QtCore.Qt.Horizontal)
@@ -82,6 +124,7 @@ def screenshot(name, widget=None):
     parentWidget(), may delete its widget when collected)."""
     os.makedirs(SCREENSHOTS, exist_ok=True)
     path = os.path.join(SCREENSHOTS, name + ".png")
+    arrange_window()
     if not name.startswith("failure"):
         widen_combo_view()
     screen = QtGui.QGuiApplication.primaryScreen()
@@ -97,8 +140,14 @@ def screenshot(name, widget=None):
 
 
 def combo_view():
-    """The dock that holds the model tree and the task panels."""
-    return FreeCADGui.getMainWindow().findChild(QtGui.QDockWidget, "Combo View")
+    """The dock that holds the task panels: "Combo View" (model tree and
+    tasks in one) up to FreeCAD 1.0, "Tasks" (beside "Model") in 1.1."""
+    window = FreeCADGui.getMainWindow()
+    for name in ("Combo View", "Tasks"):
+        dock = window.findChild(QtGui.QDockWidget, name)
+        if dock is not None:
+            return dock
+    return None
 
 
 def report_view_text():
@@ -117,6 +166,39 @@ def dump_report_view(stream):
 
 
 # -- user actions ----------------------------------------------------------------
+
+
+def isocam_toolbar():
+    """The title of the toolbar that holds our commands: our own "IsoCAM"
+    toolbar on FreeCAD 0.20, the workbench's "New Operations" from 0.21 on
+    (where a workbench manipulator puts them)."""
+    from freecad_ext.gui import commands
+
+    if hasattr(FreeCADGui, "addWorkbenchManipulator"):
+        return commands.OPERATIONS_TOOLBAR
+    return commands.TOOLBAR
+
+
+def isocam_menu_path():
+    """Where our commands are in the menu bar: "&Path > IsoCAM" on 0.20,
+    the "&CAM" menu's operations submenu (after FreeCAD's Adaptive) on 1.x."""
+    from freecad_ext.gui import commands
+
+    if hasattr(FreeCADGui, "addWorkbenchManipulator"):
+        return ("&CAM" if compat.renamed_to_cam() else "&Path",)
+    return ("&Path", commands.SUBMENU)
+
+
+def trigger(action, timeout=10.0):
+    """Press a toolbar or menu action as a user would: once it is enabled.
+    FreeCAD refreshes its commands' enabled state from a timer (1.1: on
+    demand), so it is asked to refresh first; QAction.trigger() on an action
+    still shown disabled does nothing."""
+    update = getattr(FreeCADGui, "updateCommands", None)
+    if update is not None:
+        update()
+    wait_until(action.isEnabled, timeout, "%s to be enabled" % action.text())
+    action.trigger()
 
 
 def toolbar_action(toolbar_title, command):
@@ -148,7 +230,22 @@ def menu_action(menu_path, command):
         menu.aboutToShow.emit()  # FreeCAD fills some menus on demand
         actions = menu.actions()
     ours = FreeCADGui.Command.get(command).getAction()
-    return next((a for a in actions if a in ours), None)
+    return _find_action(actions, ours)
+
+
+def _find_action(actions, ours):
+    """The first of `ours` among `actions` or in their submenus."""
+    for action in actions:
+        if action in ours:
+            return action
+    for action in actions:
+        menu = action.menu()
+        if menu is not None:
+            menu.aboutToShow.emit()
+            found = _find_action(menu.actions(), ours)
+            if found is not None:
+                return found
+    return None
 
 
 def type_text(widget, text, enter=False):
@@ -211,6 +308,7 @@ def choose_in_combo(combo, text):
 
 def task_button(which):
     """The Task view's standard button `which` (QDialogButtonBox.Ok...)."""
+    show_tasks()
     window = FreeCADGui.getMainWindow()
     for box in window.findChildren(QtGui.QDialogButtonBox):
         button = box.button(which)
@@ -266,6 +364,29 @@ def answer_message_box(seen, timeout=20.0):
     later(0.1, poll)
 
 
+def answer_input_dialog(name, seen, value=None, accept=True, timeout=20.0):
+    """From the event loop, wait for the QInputDialog with objectName `name`,
+    record its label and value in `seen`, type `value` (if given) and press
+    OK (accept) or Cancel, as a user would."""
+    end = time.monotonic() + timeout
+
+    def poll():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if isinstance(dialog, QtGui.QInputDialog) and dialog.objectName() == name:
+            seen.append((dialog.labelText(), dialog.doubleValue()))
+            screenshot("input-dialog-%d" % len(seen))
+            if value is not None:
+                dialog.setDoubleValue(value)
+            if accept:
+                dialog.accept()
+            else:
+                dialog.reject()
+        elif time.monotonic() < end:
+            later(0.1, poll)
+
+    later(0.1, poll)
+
+
 # -- documents -------------------------------------------------------------------
 
 
@@ -286,19 +407,89 @@ def degenerate_face():
     return surface.toShape()
 
 
+def settle(doc, rounds=5):
+    """Recompute `doc` until no object is left touched, letting the event
+    loop run in between: FreeCAD 1.1 finishes a new Job's objects (its
+    tool bits' bodies, the stock) from the event loop after the first
+    recompute. A snapshot taken before that would see FreeCAD's own late
+    changes as ours."""
+    for _ in range(rounds):
+        pump(0.3)
+        if not any("Touched" in o.State for o in doc.Objects):
+            return
+        doc.recompute()
+
+
 def snapshot(doc, skip=()):
     """What must not change: every object's name, type and label, its Path
-    (as G-code) and its shape (as B-rep), except the objects in `skip`."""
+    (as G-code) and its shape (as B-rep; not for tool bits, see
+    _tool_bodies), except the objects in `skip`."""
     state = {}
+    tool_bodies = _tool_bodies(doc)
     for obj in doc.Objects:
         if obj.Name in skip:
             continue
         path = obj.Path.toGCode() if hasattr(obj, "Path") else None
         shape = None
-        if obj.isDerivedFrom("Part::Feature") and not obj.Shape.isNull():
-            shape = obj.Shape.exportBrepToString()
+        if (
+            obj.isDerivedFrom("Part::Feature")
+            and not obj.Shape.isNull()
+            and obj.Name not in tool_bodies
+        ):
+            shape = _without_flags(obj.Shape.exportBrepToString())
         state[obj.Name] = (obj.TypeId, obj.Label, path, shape)
     return state
+
+
+def snapshot_changes(after, before):
+    """[(object name, what changed)] between two snapshots; [] if none."""
+    fields = ("type", "label", "path", "shape")
+    changes = []
+    for name in sorted(set(after) | set(before)):
+        if name not in after or name not in before:
+            changes.append((name, "added" if name in after else "removed"))
+            continue
+        for field, a, b in zip(fields, after[name], before[name]):
+            if a != b:
+                changes.append((name, field, _describe_change(a, b)))
+    return changes
+
+
+def _describe_change(after, before):
+    """A short account of how two snapshot values differ."""
+    if not (isinstance(after, str) and isinstance(before, str)):
+        return "%r != %r" % (after, before)
+    a, b = after.splitlines(), before.splitlines()
+    first = next((i for i, (x, y) in enumerate(zip(a, b)) if x != y), min(len(a), len(b)))
+    return "%d vs %d lines, first difference at line %d: %r vs %r" % (
+        len(a), len(b), first, a[first] if first < len(a) else None,
+        b[first] if first < len(b) else None)
+
+
+def _without_flags(brep):
+    """A B-rep text without its shapes' flag lines (free, modified, checked,
+    orientable, closed, infinite, convex: seven 0/1 digits). OpenCASCADE
+    sets "checked" once a shape has been analysed (FreeCAD 1.1's Stock after
+    a recompute of its Job), which is bookkeeping, not geometry."""
+    return "\n".join(
+        line
+        for line in brep.splitlines()
+        if not (len(line) == 7 and set(line) <= {"0", "1"})
+    )
+
+
+def _tool_bodies(doc):
+    """Names of the tool bits of `doc`'s tool controllers and of what they
+    are built from. FreeCAD 1.1 rebuilds a ToolBit's body (Body, Sketch,
+    Revolution) after each recompute of the document, so their shapes are
+    FreeCAD's to change; the bits' labels and types are still compared."""
+    names = set()
+    for obj in doc.Objects:
+        tool = getattr(obj, "Tool", None)
+        if tool is not None and hasattr(tool, "OutListRecursive"):
+            names.add(tool.Name)
+            names.update(o.Name for o in tool.OutListRecursive)
+    return names
 
 
 def set_view(doc_name, view="isometric", on=None):

@@ -4,8 +4,8 @@
 # exit status. Used by ctest, or by hand:
 #   tests/gui/run_gui_test.sh tests/gui/test_round_trip.py
 #
-# FreeCAD gets a private HOME and settings folder (XDG_CONFIG_HOME/FreeCAD/
-# user.cfg written below: a minute-based unit schema, so activating the Path
+# FreeCAD gets a private HOME and settings folder (user.cfg written below, in
+# the folder FreeCAD names: a minute-based unit schema, so activating the Path
 # workbench opens no modal warning; no start page; English) and finds the
 # built addon as Mod/IsoCAM there. Nothing of the user's FreeCAD set-up is
 # read or changed.
@@ -54,11 +54,36 @@ fi
 
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/isocam-guitest.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
-mkdir -p "$scratch/home" "$scratch/config/FreeCAD" "$scratch/data/FreeCAD/Mod" \
+mkdir -p "$scratch/home" "$scratch/config" "$scratch/data" \
   "$scratch/cache" "$scratch/run" "$scratch/tmp"
 chmod 700 "$scratch/run"
-ln -s "$ISOCAM_ADDON_DIR" "$scratch/data/FreeCAD/Mod/IsoCAM"
-cat > "$scratch/config/FreeCAD/user.cfg" <<'CFG'
+export HOME=$scratch/home
+export XDG_CONFIG_HOME=$scratch/config
+export XDG_DATA_HOME=$scratch/data
+export XDG_CACHE_HOME=$scratch/cache
+export XDG_RUNTIME_DIR=$scratch/run
+export TMPDIR=$scratch/tmp
+
+# FreeCAD is asked where its settings and Mod folder are: FreeCAD 1.1 keeps
+# them per version (.../FreeCAD/v1-1/) and, finding settings in the
+# unversioned folder instead, opens a modal "migrate" dialog at start.
+FREECADCMD=${FREECADCMD:-$(command -v freecadcmd || command -v FreeCADCmd || true)}
+if [ -z "$FREECADCMD" ]; then
+  echo "run_gui_test: freecadcmd not found (Debian package freecad-python3)" >&2
+  exit 1
+fi
+folders=$("$FREECADCMD" -c "import FreeCAD
+print('ISOCAM_CONFIG=' + FreeCAD.getUserConfigDir())
+print('ISOCAM_DATA=' + FreeCAD.getUserAppDataDir())" </dev/null 2>/dev/null || true)
+config_dir=$(printf '%s\n' "$folders" | sed -n 's/^ISOCAM_CONFIG=//p' | tail -n 1)
+data_dir=$(printf '%s\n' "$folders" | sed -n 's/^ISOCAM_DATA=//p' | tail -n 1)
+if [ -z "$config_dir" ] || [ -z "$data_dir" ]; then
+  echo "run_gui_test: $FREECADCMD did not say where its user folders are" >&2
+  exit 1
+fi
+mkdir -p "$config_dir" "$data_dir/Mod"
+ln -sfn "$ISOCAM_ADDON_DIR" "$data_dir/Mod/IsoCAM"
+cat > "$config_dir/user.cfg" <<'CFG'
 <?xml version="1.0" encoding="UTF-8" standalone="no" ?>
 <FCParameters>
   <FCParamGroup Name="Root">
@@ -80,6 +105,10 @@ cat > "$scratch/config/FreeCAD/user.cfg" <<'CFG'
             <FCBool Name="WarningSuppressVelocity" Value="1"/>
             <FCBool Name="WarningSuppressSelectionMode" Value="1"/>
           </FCParamGroup>
+          <FCParamGroup Name="CAM">
+            <FCBool Name="WarningSuppressVelocity" Value="1"/>
+            <FCBool Name="WarningSuppressSelectionMode" Value="1"/>
+          </FCParamGroup>
         </FCParamGroup>
       </FCParamGroup>
     </FCParamGroup>
@@ -87,12 +116,6 @@ cat > "$scratch/config/FreeCAD/user.cfg" <<'CFG'
 </FCParameters>
 CFG
 
-export HOME=$scratch/home
-export XDG_CONFIG_HOME=$scratch/config
-export XDG_DATA_HOME=$scratch/data
-export XDG_CACHE_HOME=$scratch/cache
-export XDG_RUNTIME_DIR=$scratch/run
-export TMPDIR=$scratch/tmp
 export QTWEBENGINE_CHROMIUM_FLAGS=--no-sandbox  # FreeCAD's web views as root
 export ISOCAM_TEST_FILE=$test_file
 export ISOCAM_RESULT_FILE=$scratch/result

@@ -36,7 +36,7 @@ class BadInput(unittest.TestCase):
     def setUpClass(cls):
         FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
         gui.wait_until(
-            lambda: gui.toolbar_action("IsoCAM", COMMAND) is not None, 20, "toolbar"
+            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None, 20, "toolbar"
         )
         cls.doc = doc = FreeCAD.newDocument("IsoCAMBadInput")
         mat = doc.addObject("Part::Feature", "MAT")
@@ -58,6 +58,7 @@ class BadInput(unittest.TestCase):
         cls.good.Base = [(cls.mat_clone, ["Face1"])]
         cls.good.ScallopHeight = 0.05
         doc.recompute()
+        gui.settle(doc)
         gui.set_view(doc.Name, on=[cls.mat_clone])
 
     def run_command(self, faces=()):
@@ -68,7 +69,7 @@ class BadInput(unittest.TestCase):
         for obj, sub in faces:
             FreeCADGui.Selection.addSelection(self.doc.Name, obj.Name, sub)
         known = {o.Name for o in _our_ops(self.doc)}
-        gui.toolbar_action("IsoCAM", COMMAND).trigger()
+        gui.trigger(gui.toolbar_action(gui.isocam_toolbar(), COMMAND))
         gui.wait_until(
             lambda: gui.task_button(QtGui.QDialogButtonBox.Ok), 20, "the task panel"
         )
@@ -88,7 +89,8 @@ class BadInput(unittest.TestCase):
             self.assertIn(fragment, message)
             self.assertIn(fragment, gui.report_view_text())
         self.assertEqual(len(op.Path.Commands), 0)
-        self.assertEqual(gui.snapshot(self.doc, skip=[op.Name]), before)
+        after = gui.snapshot(self.doc, skip=[op.Name])
+        self.assertEqual(gui.snapshot_changes(after, before), [])
         self.assertNotIn("Invalid", self.good.State)
         return message
 
@@ -151,23 +153,56 @@ class BadInput(unittest.TestCase):
         self.assertIn("Face1", message)
         gui.screenshot("core-failure-report")
 
-    def test_job_without_a_ball_end_tool(self):
-        doc = FreeCAD.newDocument("IsoCAMNoBall")
+    def _fresh_job(self, name):
+        """A new Job on MAT: FreeCAD gives it only its 5 mm end mill."""
+        doc = FreeCAD.newDocument(name)
         self.addCleanup(FreeCAD.closeDocument, doc.Name)
         model = doc.addObject("Part::Feature", "MAT")
         model.Shape = gui.load_shape("MAT.brep")
-        compat.gui().JobGui.Create([model], openTaskPanel=False)
+        job = compat.gui().JobGui.Create([model], openTaskPanel=False)
         doc.recompute()
+        self.assertFalse(any(compat.is_ball_end(tc.Tool) for tc in job.Tools.Group))
+        return doc, job
+
+    def _press_with_offer(self, seen, **answer):
+        from freecad_ext.gui import commands
+
+        gui.answer_input_dialog(commands.BALL_END_OFFER, seen, **answer)
+        with gui.expect_dialog(lambda w: isinstance(w, QtGui.QInputDialog)):
+            gui.trigger(gui.toolbar_action(gui.isocam_toolbar(), COMMAND))
+            gui.wait_until(lambda: seen, 20, "the ball-end offer")
+
+    def test_fresh_job_declining_the_ball_end_offer_changes_nothing(self):
+        doc, job = self._fresh_job("IsoCAMNoBall")
         before = gui.snapshot(doc)
         seen = []
-        gui.answer_message_box(seen)
-        with gui.expect_dialog(lambda w: isinstance(w, QtGui.QMessageBox)):
-            gui.toolbar_action("IsoCAM", COMMAND).trigger()
-            gui.wait_until(lambda: seen, 20, "the message box")
-        self.assertIn("no tool controller with a ball-end tool", seen[0])
+        self._press_with_offer(seen, accept=False)
+        label, default = seen[0]
+        self.assertIn("needs a ball-end tool", label)
+        self.assertIn(job.Label, label)
+        self.assertEqual(default, 6.0)
+        gui.pump(0.5)
         self.assertFalse(FreeCADGui.Control.activeDialog())
         self.assertEqual(_our_ops(doc), [])
         self.assertEqual(gui.snapshot(doc), before)
+
+    def test_fresh_job_accepting_the_ball_end_offer_makes_the_op(self):
+        doc, job = self._fresh_job("IsoCAMAddBall")
+        seen = []
+        self._press_with_offer(seen, value=8.0)
+        gui.wait_until(
+            lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 30, "the panel"
+        )
+        gui.screenshot("panel-after-ball-end-offer")
+        (op,) = _our_ops(doc)
+        tc = op.ToolController
+        self.assertTrue(compat.is_ball_end(tc.Tool))
+        self.assertAlmostEqual(tc.Tool.Diameter.Value, 8.0)
+        self.assertIn(tc, job.Tools.Group)
+        self.assertEqual(len(job.Tools.Group), 2)  # FreeCAD's end mill, ours
+        gui.click(gui.task_button(QtGui.QDialogButtonBox.Cancel))
+        gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "close")
+        self.assertEqual(_our_ops(doc), [])
 
     def test_document_saved_headless_gets_our_view_provider(self):
         tmp = tempfile.mkdtemp(prefix="isocam-gui-")

@@ -5,7 +5,7 @@ with progress, the path is simulated and posted, a long computation is
 cancelled without changing the document, and the document saved in the GUI
 reopens in the GUI and headless and recomputes to the same path.
 
-The steps run in order (test_1 ... test_8) on one document; each leaves
+The steps run in order (test_1 ... test_9) on one document; each leaves
 screenshots in $ISOCAM_SCREENSHOT_DIR.
 """
 
@@ -68,14 +68,14 @@ class RoundTrip(unittest.TestCase):
     def test_1_command_in_the_path_workbench(self):
         FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
         gui.wait_until(
-            lambda: gui.toolbar_action("IsoCAM", COMMAND) is not None,
+            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None,
             20,
             "the IsoCAM toolbar in the Path workbench",
         )
-        action = gui.toolbar_action("IsoCAM", COMMAND)
+        action = gui.toolbar_action(gui.isocam_toolbar(), COMMAND)
         self.assertFalse(action.icon().isNull())
         self.assertIn("ball-end", action.toolTip())
-        self.assertIsNotNone(gui.menu_action(("&Path", "IsoCAM"), COMMAND))
+        self.assertIsNotNone(gui.menu_action(gui.isocam_menu_path(), COMMAND))
         # Without a Job the command cannot run.
         self.assertFalse(action.isEnabled())
         # One command per table row whose module exists, none for the others.
@@ -105,13 +105,13 @@ class RoundTrip(unittest.TestCase):
         type(self).job = job
         self.doc.recompute()
         gui.pump(0.5)
-        self.assertTrue(gui.toolbar_action("IsoCAM", COMMAND).isEnabled())
+        self.assertTrue(gui.toolbar_action(gui.isocam_toolbar(), COMMAND).isEnabled())
 
     def test_3_command_opens_the_panel_which_checks_as_typed(self):
         clone = self.job.Model.Group[0]
         FreeCADGui.Selection.clearSelection()
         FreeCADGui.Selection.addSelection(self.doc.Name, clone.Name, "Face1")
-        gui.toolbar_action("IsoCAM", COMMAND).trigger()
+        gui.trigger(gui.toolbar_action(gui.isocam_toolbar(), COMMAND))
         gui.wait_until(FreeCADGui.Control.activeDialog, 20, "the task panel")
         ops = _ops(self.doc)
         self.assertEqual(len(ops), 1)
@@ -304,6 +304,31 @@ class RoundTrip(unittest.TestCase):
         gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "close")
 
         self.assertEqual(_headless_gcode(path, self.op_name, self.tmp), self.gcode)
+
+    def test_9_a_fine_scallop_typed_and_ok_is_kept(self):
+        """0.002 mm typed, then OK: the op computes with 0.002 mm. FreeCAD
+        1.1's field shows it rounded to the decimals preference (2 by
+        default: "0.00 mm") once it loses focus; the value typed counts."""
+        op = self.doc.getObject(self.op_name)
+        FreeCADGui.ActiveDocument.setEdit(op.Name)
+        gui.wait_until(FreeCADGui.Control.activeDialog, 20, "the task panel")
+        page = op.ViewObject.Proxy.panel.op_page
+        gui.type_text(page.form.ScallopHeight, "0.002 mm")
+        page.form.ChordTolerance.setFocus(QtCore.Qt.TabFocusReason)  # leave the field
+        gui.pump(0.3)
+        gui.screenshot("panel-fine-scallop")
+        self.assertEqual(page.messages, [])
+        gui.click(gui.task_button(QtGui.QDialogButtonBox.Ok))
+        gui.wait_until(
+            lambda: not FreeCADGui.Control.activeDialog(),
+            COMPUTE_TIMEOUT,
+            "the panel to close",
+        )
+        self.assertAlmostEqual(op.ScallopHeight.Value, 0.002, places=9)
+        self.assertNotIn("Invalid", op.State, op.getStatusString())
+        self.assertLessEqual(op.GuaranteedScallop.Value, 0.002 * (1 + 1e-6))
+        self.assertGreater(len(op.Path.Commands), 0)
+        gui.screenshot("path-fine-scallop")
 
 
 def _headless_gcode(fcstd, op_name, tmp):

@@ -31,7 +31,9 @@ class PackageXml(unittest.TestCase):
         license_ = self.root.find("p:license", NS)
         self.assertTrue(os.path.isfile(os.path.join(ROOT, license_.get("file"))))
         self.assertTrue(os.path.isfile(os.path.join(ROOT, self.text("p:icon"))))
-        self.assertEqual(self.text("p:freecadmin"), "0.20.0")
+        # The FreeCAD versions ./run test covers: 0.20.2, 1.0, 1.1.
+        self.assertEqual(self.text("p:freecadmin"), "0.20.2")
+        self.assertEqual(self.text("p:freecadmax"), "1.1.99")
         depends = [(d.get("type"), d.text) for d in self.root.findall("p:depend", NS)]
         self.assertIn(("python", "numpy"), depends)
 
