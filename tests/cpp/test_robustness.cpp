@@ -180,6 +180,7 @@ IsoParams iso(double r, double h) {
 TEST(Robustness, ToleranceTooFineForTheModelIsRefused) {
   const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(10.0).Shape();
   IsoParams p = iso(3, 1e-9);
+  p.posted_resolution = 0;  // else the posted rounding alone is over the budget
   std::string e = invalid_argument([&] { adaptive_isocurve(sphere, {0}, p); });
   EXPECT_TRUE(has(e, "scallop_height = 1e-09 mm is too fine")) << e;
   EXPECT_TRUE(has(e, "exceeds 1e+06")) << e;
@@ -190,7 +191,7 @@ TEST(Robustness, ToleranceTooFineForTheModelIsRefused) {
   // A model 1e6 mm large at 0.01 mm names both.
   const TopoDS_Shape big = BRepPrimAPI_MakeSphere(5e5).Shape();
   e = invalid_argument([&] { adaptive_isocurve(big, {0}, iso(3, 0.01)); });
-  EXPECT_TRUE(has(e, "chord_tolerance = 0.01 mm")) << e;
+  EXPECT_TRUE(has(e, "scallop_height = 0.01 mm")) << e;
   EXPECT_TRUE(has(e, "extends 1.73205e+06 mm")) << e;
 }
 

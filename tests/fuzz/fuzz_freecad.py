@@ -21,7 +21,9 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 # (op, property, bad values, words the op's message must contain)
 PROPERTIES = (
     ("AdaptiveIsocurve", "ScallopHeight", (1e-9, 0.0, 3.0, 1e300), ("ScallopHeight",)),
-    ("AdaptiveIsocurve", "ChordTolerance", (1e-12, 0.0), ("ChordTolerance",)),
+    # ChordTolerance 0 derives it from the budgets; 0.5 does not fit them.
+    ("AdaptiveIsocurve", "ChordTolerance", (1e-12, 0.5), ("ChordTolerance",)),
+    ("AdaptiveIsocurve", "OvercutTolerance", (1e-9, 3.0), ("OvercutTolerance",)),
     ("AdaptiveIsocurve", "ClearanceHeight", (-50.0,), ("ClearanceHeight",)),
     ("AdaptiveIsocurve", "SafeHeight", (1e300, -50.0), ("SafeHeight",)),
     ("AdaptiveIsocurve", "MaxMoves", (0, 10), ("MaxMoves",)),

@@ -202,7 +202,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   // The flat-ground stepover for the cusp the budget leaves (stepover.h).
   const double delta = stepover_chord_with_error(params.ball_radius, params.scallop_height, 0.0,
                                                  budget.centre_error());
-  check_job_budget(all, faces, params, delta);
+  check_job_budget(all, faces, user_params, params, delta);
   IsoResult result;
   result.metrics.delta = delta;
   // Every picked face gets its grid and trimmed domain and is kept clear of

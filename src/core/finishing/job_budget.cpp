@@ -23,7 +23,7 @@ void check_job_limits(const IsoParams& p) {
 }
 
 void check_job_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces,
-                      const IsoParams& p, double delta) {
+                      const IsoParams& user, const IsoParams& p, double delta) {
   Bnd_Box box;
   for (const TopoDS_Face& f : all) BRepBndLib::Add(f, box, false);
   if (box.IsVoid()) throw InvalidArgument("brep: the faces have no extent");
@@ -33,8 +33,10 @@ void check_job_budget(const std::vector<TopoDS_Face>& all, const std::vector<int
                                std::abs(y1), std::abs(z1)});
   const double size = std::sqrt(box.SquareExtent());
   const double extent = std::max(size, far);
-  check_tolerance_ratio("chord_tolerance", p.chord_tolerance, extent);
-  check_tolerance_ratio("scallop_height", p.scallop_height, extent);
+  if (user.chord_tolerance > 0)
+    check_tolerance_ratio("chord_tolerance", user.chord_tolerance, extent);
+  check_tolerance_ratio("scallop_height", user.scallop_height, extent);
+  check_tolerance_ratio("overcut_tolerance", user.overcut_tolerance, extent);
   double area = 0.0;
   for (int f : faces) {
     GProp_GProps props;
