@@ -1,0 +1,374 @@
+// The constant-scallop pattern's driver: the front of paths per face and
+// direction (scallop_front.cpp), the measured certificate, the clip to the
+// trimmed face, the ball centres and the clearance cuts (see
+// constant_scallop.h for the contract).
+#include "finishing/constant_scallop.h"
+
+#include <Standard_Failure.hxx>
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <unordered_map>
+
+#include "finishing/stepover.h"
+#include "geometry/curvature.h"
+#include "finishing/task_pool.h"
+#include "isocam/errors.h"
+#include "toolpath/linearize.h"
+
+namespace isocam {
+namespace {
+
+using Path = std::vector<FrontPiece>;
+
+// Distance from p to the polylines of a path (by their bounding boxes first).
+double distance_to_path(const gp_Pnt& p, const Path& path, double cap) {
+  double best = cap;
+  for (const FrontPiece& pc : path)
+    for (std::size_t k = 1; k < pc.size(); ++k) {
+      const gp_Pnt &a = pc[k - 1].p, &b = pc[k].p;
+      if (std::min(a.X(), b.X()) - best > p.X() || std::max(a.X(), b.X()) + best < p.X() ||
+          std::min(a.Y(), b.Y()) - best > p.Y() || std::max(a.Y(), b.Y()) + best < p.Y() ||
+          std::min(a.Z(), b.Z()) - best > p.Z() || std::max(a.Z(), b.Z()) + best < p.Z())
+        continue;
+      const gp_Vec ab(a, b), ap(a, p);
+      const double l2 = ab.SquareMagnitude();
+      const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+      best = std::min(best, p.Distance(a.Translated(ab * t)));
+    }
+  return best;
+}
+
+// The contact polylines of all paths of a face, for nearest-distance
+// queries (a uniform hash grid of segments, cells `cell` wide).
+class ContactIndex {
+ public:
+  ContactIndex(const std::vector<std::vector<FrontPiece>>& paths, double cell) : cell_(cell) {
+    for (const auto& path : paths)
+      for (const FrontPiece& pc : path)
+        for (std::size_t k = 1; k < pc.size(); ++k) {
+          const gp_Pnt &a = pc[k - 1].p, &b = pc[k].p;
+          segs_.emplace_back(a, b);
+          const long i0 = idx(std::min(a.X(), b.X())), i1 = idx(std::max(a.X(), b.X()));
+          const long j0 = idx(std::min(a.Y(), b.Y())), j1 = idx(std::max(a.Y(), b.Y()));
+          const long k0 = idx(std::min(a.Z(), b.Z())), k1 = idx(std::max(a.Z(), b.Z()));
+          for (long i = i0; i <= i1; ++i)
+            for (long j = j0; j <= j1; ++j)
+              for (long q = k0; q <= k1; ++q) grid_[key(i, j, q)].push_back(segs_.size() - 1);
+        }
+  }
+  // The distance to the nearest segment, or 2 cell if none is that near.
+  double distance(const gp_Pnt& p) const {
+    double best = 2 * cell_;
+    for (long ring = 1; ring <= 2 && best > double(ring - 1) * cell_; ++ring) {
+      const long i = idx(p.X()), j = idx(p.Y()), q = idx(p.Z());
+      for (long a = i - ring; a <= i + ring; ++a)
+        for (long b = j - ring; b <= j + ring; ++b)
+          for (long c = q - ring; c <= q + ring; ++c) {
+            const auto it = grid_.find(key(a, b, c));
+            if (it == grid_.end()) continue;
+            for (std::size_t sgi : it->second) best = std::min(best, to_segment(p, sgi));
+          }
+    }
+    return best;
+  }
+
+ private:
+  long idx(double x) const { return static_cast<long>(std::floor(x / cell_)); }
+  static std::int64_t key(long i, long j, long k) {
+    return (static_cast<std::int64_t>(i & 0x1FFFFF) << 42) | (static_cast<std::int64_t>(j & 0x1FFFFF) << 21) |
+           static_cast<std::int64_t>(k & 0x1FFFFF);
+  }
+  double to_segment(const gp_Pnt& p, std::size_t i) const {
+    const gp_Pnt &a = segs_[i].first, &b = segs_[i].second;
+    const gp_Vec ab(a, b), ap(a, p);
+    const double l2 = ab.SquareMagnitude();
+    const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+    return p.Distance(a.Translated(ab * t));
+  }
+  double cell_;
+  std::vector<std::pair<gp_Pnt, gp_Pnt>> segs_;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
+};
+
+// Definition 1 measured on the face: samples about `step` apart in each
+// patch (inside the wires), each at distance d from the nearest contact
+// polyline; the ball there leaves at most the cusp of contact points 2 d
+// apart on the most convex normal curvature at the sample. Samples within
+// `ok` / 2 of a path (no worse than the adjacent pairs) skip the curvature.
+void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed,
+                     const ContactIndex& index, double r, double step, double ok,
+                     double* max_gap, double* scallop) {
+  const auto& ub = g.ubreaks();
+  const auto& vb = g.vbreaks();
+  for (int j = 0; j < g.patches_v(); ++j)
+    for (int i = 0; i < g.patches_u(); ++i) {
+      const std::size_t iu = static_cast<std::size_t>(i), jv = static_cast<std::size_t>(j);
+      const double diag = g.eval(ub[iu], vb[jv]).Distance(g.eval(ub[iu + 1], vb[jv + 1]));
+      const int n = std::clamp(static_cast<int>(std::ceil(diag / step)), 1, 8);
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+          const double s = (a + 0.5) / n, t = (b + 0.5) / n;
+          const double u = ub[iu] + s * (ub[iu + 1] - ub[iu]), v = vb[jv] + t * (vb[jv + 1] - vb[jv]);
+          if (!(transposed ? trim.contains(v, u) : trim.contains(u, v))) continue;
+          const double d = index.distance(g.eval(u, v));
+          *max_gap = std::max(*max_gap, d);
+          if (2 * d <= ok) continue;
+          const CurvatureSample c = curvature_at(g, i, j, s, t);
+          *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, c.ok ? c.k_max : 0.0));
+        }
+    }
+}
+
+// The paths of one face in a working grid, with the measured spacing.
+struct FacePaths {
+  std::vector<Path> paths;
+  double length = 0.0;  // of the contact polylines
+  double max_spacing = 0.0, scallop = 0.0, max_width = 0.0;
+  int min_hits = 0;
+  bool capped = false;
+};
+
+FacePaths trace_paths(const PatchGrid& g, const StripWidth& width, const IsoParams& p,
+                      const ProgressSlice& progress) {
+  const double flat = stepover_for_scallop(p.ball_radius, p.scallop_height);
+  FrontSettings s;
+  s.sample_max = flat;
+  s.min_spacing = 0.02 * flat;
+  FacePaths out;
+  std::vector<FrontPiece> front = start_front(g, flat, s.sample_max);
+  const std::size_t max_paths = static_cast<std::size_t>(8.0 * g.size() / s.min_spacing) + 100;
+  std::size_t samples = 0;
+  while (!front.empty()) {
+    progress.check();
+    if (out.paths.size() >= max_paths || samples > 20000000) {
+      out.capped = true;
+      out.paths.push_back(front);
+      break;
+    }
+    FrontStep step = advance_front(g, &front, width, s);
+    out.min_hits += step.min_hits;
+    for (const FrontPiece& pc : front) {
+      samples += pc.size();
+      for (std::size_t k = 1; k < pc.size(); ++k) out.length += pc[k - 1].p.Distance(pc[k].p);
+    }
+    // The certificate: each point with a successor against the next path.
+    for (const FrontPiece& pc : front)
+      for (const FrontPoint& q : pc) {
+        if (!q.has_next) continue;
+        out.max_width = std::max(out.max_width, q.spacing);
+        const double c = distance_to_path(q.p, step.next, 4.0 * flat + q.spacing);
+        out.max_spacing = std::max(out.max_spacing, c);
+        out.scallop = std::max(out.scallop, scallop_for_chord(p.ball_radius, c, q.kappa));
+      }
+    out.paths.push_back(std::move(front));
+    front = std::move(step.next);
+    double vsum = 0, n = 0;
+    for (const FrontPiece& pc : front)
+      for (const FrontPoint& q : pc) vsum += q.uv.v, n += 1;
+    if (n > 0) progress.report(std::clamp((vsum / n - g.vmin()) / (g.vmax() - g.vmin()), 0.0, 1.0));
+  }
+  return out;
+}
+
+// Contact points of a piece as a curve: parameter t in [k, k+1] runs
+// straight in (u, v) from sample k to k+1 (working grid).
+ParamPt uv_at(const FrontPiece& pc, double t) {
+  const std::size_t k = std::min(static_cast<std::size_t>(std::max(t, 0.0)), pc.size() - 2);
+  const double f = t - double(k);
+  return {pc[k].uv.u + f * (pc[k + 1].uv.u - pc[k].uv.u), pc[k].uv.v + f * (pc[k + 1].uv.v - pc[k].uv.v)};
+}
+
+class PieceCutter {
+ public:
+  PieceCutter(const PatchGrid& g, const TrimDomain& trim, bool transposed, const IsoParams& p,
+              const ClearanceModel& model)
+      : g_(g), trim_(trim), transposed_(transposed), p_(p), model_(model),
+        clearance_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)) {}
+
+  // The clear pieces of centre path over the parts of `pc` inside the face.
+  void cut(const FrontPiece& pc, std::vector<CutPiece>* out, int* curves, double* unreachable) const {
+    for (const auto& [a, b] : inside_runs(pc)) {
+      std::vector<gp_Pnt> pts;
+      std::vector<double> ts;
+      auto f = [&](double t) { return centre(uv_at(pc, t)); };
+      for (double k = std::floor(a); k < b; k += 1.0) {
+        const double lo = std::max(a, k), hi = std::min(b, k + 1.0);
+        if (hi - lo < 1e-12) continue;
+        std::vector<double> tk;
+        const std::vector<gp_Pnt> seg = linearize(f, lo, hi, p_.chord_tolerance, {}, 1, &tk);
+        for (std::size_t i = pts.empty() ? 0 : 1; i < seg.size(); ++i) {
+          pts.push_back(seg[i]);
+          ts.push_back(tk[i]);
+        }
+      }
+      double full = 0;
+      for (std::size_t i = 1; i < pts.size(); ++i) full += pts[i - 1].Distance(pts[i]);
+      if (pts.size() < 2 || full <= 1e-6) continue;
+      ++*curves;
+      double kept = 0;
+      for (CutPiece& piece : clear_pieces(pts, ts, f, model_, clearance_, p_.chord_tolerance)) {
+        kept += piece.length();
+        out->push_back(std::move(piece));
+      }
+      *unreachable += full - kept;
+    }
+  }
+
+ private:
+  gp_Pnt centre(const ParamPt& uv) const {
+    const SurfaceDerivs d = g_.d1(uv.u, uv.v);
+    return d.p.Translated(g_.normal(uv.u, uv.v, &d) * p_.ball_radius);
+  }
+  bool inside(const ParamPt& uv) const {
+    return transposed_ ? trim_.contains(uv.v, uv.u) : trim_.contains(uv.u, uv.v);
+  }
+  int classify(const ParamPt& a, const ParamPt& b) const {
+    const double u0 = std::min(a.u, b.u), u1 = std::max(a.u, b.u);
+    const double v0 = std::min(a.v, b.v), v1 = std::max(a.v, b.v);
+    return transposed_ ? trim_.classify_rect(v0, v1, u0, u1) : trim_.classify_rect(u0, u1, v0, v1);
+  }
+  // Between t_in (inside) and t_out, the end of the inside part, by
+  // bisection to 1e-4 of the chord tolerance in space.
+  double boundary(const FrontPiece& pc, double t_in, double t_out) const {
+    for (int it = 0; it < 60; ++it) {
+      const ParamPt a = uv_at(pc, t_in), b = uv_at(pc, t_out);
+      if (g_.eval(a.u, a.v).Distance(g_.eval(b.u, b.v)) <= 1e-4 * p_.chord_tolerance) break;
+      const double m = 0.5 * (t_in + t_out);
+      (inside(uv_at(pc, m)) ? t_in : t_out) = m;
+    }
+    return t_in;
+  }
+  // The parameter intervals of the piece inside the face: a segment whose
+  // rectangle may meet the boundary is also tested at 7 interior points.
+  std::vector<std::pair<double, double>> inside_runs(const FrontPiece& pc) const {
+    std::vector<std::pair<double, double>> runs;
+    bool in = inside(pc[0].uv);
+    double start = 0.0;
+    for (std::size_t k = 0; k + 1 < pc.size(); ++k) {
+      const int state = classify(pc[k].uv, pc[k + 1].uv);
+      if (state == 1 && in) continue;
+      std::vector<double> ts;
+      if (state == 0)
+        for (int q = 1; q < 8; ++q) ts.push_back(double(k) + q / 8.0);
+      ts.push_back(double(k + 1));
+      double tp = double(k);
+      for (double t : ts) {
+        const bool s = state == -1 ? false : inside(uv_at(pc, t));
+        if (in && !s) runs.emplace_back(start, boundary(pc, tp, t));
+        if (!in && s) start = boundary(pc, t, tp);
+        in = s;
+        tp = t;
+      }
+    }
+    if (in) runs.emplace_back(start, double(pc.size() - 1));
+    return runs;
+  }
+
+  const PatchGrid& g_;
+  const TrimDomain& trim_;
+  bool transposed_;
+  const IsoParams& p_;
+  const ClearanceModel& model_;
+  double clearance_;
+};
+
+struct FaceOut {
+  FacePaths paths;
+  std::shared_ptr<const PatchGrid> grid;
+  IsoDirection dir = IsoDirection::V;
+  double gap = 0.0, gap_scallop = 0.0;  // sample_coverage()
+  // Meets the scallop asked (5% for what the samples miss) by its certificate.
+  bool meets(double h) const { return std::max(paths.scallop, gap_scallop) <= 1.05 * h; }
+};
+
+}  // namespace
+
+ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
+                                      const IsoParams& params, const ClearanceModel& model,
+                                      Progress* progress, const StripWidth& width_in) {
+  const StripWidth width =
+      width_in ? width_in : ball_strip_width(params.ball_radius, params.scallop_height);
+  std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
+  if (params.direction != IsoDirection::Auto) dirs = {params.direction};
+  const std::size_t nd = dirs.size(), nf = faces.size();
+  const ProgressSlice all(progress);
+  std::vector<FaceOut> tried(nf * nd);
+  for_each_index(tried.size(), params.threads, [&](std::size_t k) {
+    const ScallopFace& face = faces[k / nd];
+    FaceOut& o = tried[k];
+    o.dir = dirs[k % nd];
+    try {
+      o.grid = std::make_shared<const PatchGrid>(o.dir == IsoDirection::U ? face.grid->transposed()
+                                                                           : *face.grid);
+      o.paths = trace_paths(*o.grid, width, params,
+                            all.sub(0.7 * double(k) / double(tried.size()),
+                                    0.7 * double(k + 1) / double(tried.size())));
+      const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
+      sample_coverage(*o.grid, *face.trim, o.dir == IsoDirection::U,
+                      ContactIndex(o.paths.paths, flat), params.ball_radius, flat,
+                      o.paths.max_spacing, &o.gap, &o.gap_scallop);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+  });
+  ScallopPieces out;
+  std::vector<FaceOut> chosen(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    // The direction that meets the scallop by its certificate, then the
+    // shorter one.
+    std::size_t best = f * nd;
+    for (std::size_t d = 1; d < nd; ++d) {
+      const FaceOut &a = tried[f * nd + d], &b = tried[best];
+      const bool ma = a.meets(params.scallop_height), mb = b.meets(params.scallop_height);
+      if ((ma && !mb) || (ma == mb && a.paths.length < b.paths.length)) best = f * nd + d;
+    }
+    chosen[f] = std::move(tried[best]);
+  }
+  std::vector<std::vector<CutPiece>> cut(nf);
+  std::vector<int> curves(nf, 0);
+  std::vector<double> unreachable(nf, 0.0);
+  for_each_index(nf, params.threads, [&](std::size_t f) {
+    all.check();
+    const FaceOut& o = chosen[f];
+    try {
+      const bool transposed = o.dir == IsoDirection::U;
+      const PieceCutter cutter(*o.grid, *faces[f].trim, transposed, params, model);
+      for (std::size_t i = 0; i < o.paths.paths.size(); ++i) {
+        all.check();
+        std::vector<CutPiece> pieces;
+        for (const FrontPiece& pc : o.paths.paths[i]) cutter.cut(pc, &pieces, &curves[f], &unreachable[f]);
+        if (i % 2 == 1) {  // zig-zag
+          std::reverse(pieces.begin(), pieces.end());
+          for (CutPiece& pc : pieces) pc.reverse();
+        }
+        std::move(pieces.begin(), pieces.end(), std::back_inserter(cut[f]));
+      }
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(faces[f].index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+  });
+  all.report(0.95);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const FacePaths& fp = chosen[f].paths;
+    out.face_direction.push_back(chosen[f].dir);
+    out.paths += static_cast<int>(fp.paths.size());
+    out.curves += curves[f];
+    out.unreachable_length += unreachable[f];
+    out.max_spacing = std::max({out.max_spacing, fp.max_spacing, 2 * chosen[f].gap});
+    out.guaranteed_scallop = std::max({out.guaranteed_scallop, fp.scallop, chosen[f].gap_scallop});
+    out.max_width = std::max(out.max_width, fp.max_width);
+    std::move(cut[f].begin(), cut[f].end(), std::back_inserter(out.pieces));
+    if (fp.min_hits > 0)
+      out.warnings.push_back(face_label(faces[f].index) + ": the strip width asked for a spacing below " +
+                             "the minimum (2% of the flat stepover) at " + std::to_string(fp.min_hits) +
+                             " points; the minimum was used there (see guaranteed_scallop)");
+    if (fp.capped)
+      out.warnings.push_back(face_label(faces[f].index) + ": constant-scallop paths stopped at " +
+                             std::to_string(fp.paths.size()) +
+                             " paths (the cap); the face may not be covered");
+  }
+  return out;
+}
+
+}  // namespace isocam
