@@ -8,10 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <unordered_map>
+#include <memory>
 
 #include "finishing/stepover.h"
-#include "geometry/curvature.h"
 #include "finishing/task_pool.h"
 #include "isocam/errors.h"
 #include "toolpath/linearize.h"
@@ -21,84 +20,10 @@ namespace {
 
 using Path = std::vector<FrontPiece>;
 
-// Distance from p to the polylines of a path (by their bounding boxes first).
-double distance_to_path(const gp_Pnt& p, const Path& path, double cap) {
-  double best = cap;
-  for (const FrontPiece& pc : path)
-    for (std::size_t k = 1; k < pc.size(); ++k) {
-      const gp_Pnt &a = pc[k - 1].p, &b = pc[k].p;
-      if (std::min(a.X(), b.X()) - best > p.X() || std::max(a.X(), b.X()) + best < p.X() ||
-          std::min(a.Y(), b.Y()) - best > p.Y() || std::max(a.Y(), b.Y()) + best < p.Y() ||
-          std::min(a.Z(), b.Z()) - best > p.Z() || std::max(a.Z(), b.Z()) + best < p.Z())
-        continue;
-      const gp_Vec ab(a, b), ap(a, p);
-      const double l2 = ab.SquareMagnitude();
-      const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
-      best = std::min(best, p.Distance(a.Translated(ab * t)));
-    }
-  return best;
-}
-
-// The contact polylines of all paths of a face, for nearest-distance
-// queries (a uniform hash grid of segments, cells `cell` wide).
-class ContactIndex {
- public:
-  ContactIndex(const std::vector<std::vector<FrontPiece>>& paths, double cell) : cell_(cell) {
-    for (const auto& path : paths)
-      for (const FrontPiece& pc : path)
-        for (std::size_t k = 1; k < pc.size(); ++k) {
-          const gp_Pnt &a = pc[k - 1].p, &b = pc[k].p;
-          segs_.emplace_back(a, b);
-          const long i0 = idx(std::min(a.X(), b.X())), i1 = idx(std::max(a.X(), b.X()));
-          const long j0 = idx(std::min(a.Y(), b.Y())), j1 = idx(std::max(a.Y(), b.Y()));
-          const long k0 = idx(std::min(a.Z(), b.Z())), k1 = idx(std::max(a.Z(), b.Z()));
-          for (long i = i0; i <= i1; ++i)
-            for (long j = j0; j <= j1; ++j)
-              for (long q = k0; q <= k1; ++q) grid_[key(i, j, q)].push_back(segs_.size() - 1);
-        }
-  }
-  // The distance to the nearest segment, or 2 cell if none is that near.
-  double distance(const gp_Pnt& p) const {
-    double best = 2 * cell_;
-    for (long ring = 1; ring <= 2 && best > double(ring - 1) * cell_; ++ring) {
-      const long i = idx(p.X()), j = idx(p.Y()), q = idx(p.Z());
-      for (long a = i - ring; a <= i + ring; ++a)
-        for (long b = j - ring; b <= j + ring; ++b)
-          for (long c = q - ring; c <= q + ring; ++c) {
-            const auto it = grid_.find(key(a, b, c));
-            if (it == grid_.end()) continue;
-            for (std::size_t sgi : it->second) best = std::min(best, to_segment(p, sgi));
-          }
-    }
-    return best;
-  }
-
- private:
-  long idx(double x) const { return static_cast<long>(std::floor(x / cell_)); }
-  static std::int64_t key(long i, long j, long k) {
-    return (static_cast<std::int64_t>(i & 0x1FFFFF) << 42) | (static_cast<std::int64_t>(j & 0x1FFFFF) << 21) |
-           static_cast<std::int64_t>(k & 0x1FFFFF);
-  }
-  double to_segment(const gp_Pnt& p, std::size_t i) const {
-    const gp_Pnt &a = segs_[i].first, &b = segs_[i].second;
-    const gp_Vec ab(a, b), ap(a, p);
-    const double l2 = ab.SquareMagnitude();
-    const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
-    return p.Distance(a.Translated(ab * t));
-  }
-  double cell_;
-  std::vector<std::pair<gp_Pnt, gp_Pnt>> segs_;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
-};
-
-// Definition 1 measured on the face: samples about `step` apart in each
-// patch (inside the wires), each at distance d from the nearest contact
-// polyline; the ball there leaves at most the cusp of contact points 2 d
-// apart on the most convex normal curvature at the sample. Samples within
-// `ok` / 2 of a path (no worse than the adjacent pairs) skip the curvature.
-void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed,
-                     const ContactIndex& index, double r, double step, double ok,
-                     double* max_gap, double* scallop) {
+// Samples of the face about `step` apart in each patch (at most 8 x 8),
+// inside its wires: f(u, v).
+template <class F>
+void for_each_sample(const PatchGrid& g, const TrimDomain& trim, bool transposed, double step, F f) {
   const auto& ub = g.ubreaks();
   const auto& vb = g.vbreaks();
   for (int j = 0; j < g.patches_v(); ++j)
@@ -110,14 +35,35 @@ void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed
         for (int b = 0; b < n; ++b) {
           const double s = (a + 0.5) / n, t = (b + 0.5) / n;
           const double u = ub[iu] + s * (ub[iu + 1] - ub[iu]), v = vb[jv] + t * (vb[jv + 1] - vb[jv]);
-          if (!(transposed ? trim.contains(v, u) : trim.contains(u, v))) continue;
-          const double d = index.distance(g.eval(u, v));
-          *max_gap = std::max(*max_gap, d);
-          if (2 * d <= ok) continue;
-          const CurvatureSample c = curvature_at(g, i, j, s, t);
-          *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, c.ok ? c.k_max : 0.0));
+          if (transposed ? trim.contains(v, u) : trim.contains(u, v)) f(u, v);
         }
     }
+}
+
+// The normal curvature at the sample (u, v) towards the nearest contact
+// point: across the feed of the path that cuts there.
+double towards_path(const PatchGrid& g, const PathIndex& index, double u, double v) {
+  const gp_Pnt x = g.eval(u, v);
+  gp_Pnt at;
+  index.distance(x, &at);
+  if (x.Distance(at) < 1e-12) return 0.0;
+  return normal_curvature(g, {u, v}, gp_Vec(x, at));
+}
+
+// Definition 1 measured on the face: each sample at distance d from the
+// nearest contact polyline; the ball there leaves at most the cusp of
+// contact points 2 d apart on the most convex normal curvature at the
+// sample towards the path (towards_path()). Samples within `ok` / 2 of a path (no worse than the adjacent
+// pairs) skip the curvature.
+void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed,
+                     const PathIndex& index, double r, double step, double ok,
+                     double* max_gap, double* scallop) {
+  for_each_sample(g, trim, transposed, step, [&](double u, double v) {
+    const double d = index.distance(g.eval(u, v));
+    *max_gap = std::max(*max_gap, d);
+    if (2 * d <= ok) return;
+    *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, towards_path(g, index, u, v)));
+  });
 }
 
 // The paths of one face in a working grid, with the measured spacing.
@@ -125,50 +71,112 @@ struct FacePaths {
   std::vector<Path> paths;
   double length = 0.0;  // of the contact polylines
   double max_spacing = 0.0, scallop = 0.0, max_width = 0.0;
-  int min_hits = 0;
+  int min_hits = 0, seeds = 0;
   bool capped = false;
+  std::shared_ptr<PathIndex> index;  // all the paths' contact polylines
 };
 
-FacePaths trace_paths(const PatchGrid& g, const StripWidth& width, const IsoParams& p,
-                      const ProgressSlice& progress) {
-  const double flat = stepover_for_scallop(p.ball_radius, p.scallop_height);
+struct Tracer {
+  const PatchGrid& g;
+  const TrimDomain& trim;
+  bool transposed;
+  const StripWidth& width;
+  const IsoParams& p;
+  const ProgressSlice& progress;
+  double flat;
   FrontSettings s;
-  s.sample_max = flat;
-  s.min_spacing = 0.02 * flat;
   FacePaths out;
-  std::vector<FrontPiece> front = start_front(g, flat, s.sample_max);
-  const std::size_t max_paths = static_cast<std::size_t>(8.0 * g.size() / s.min_spacing) + 100;
-  std::size_t samples = 0;
-  while (!front.empty()) {
-    progress.check();
-    if (out.paths.size() >= max_paths || samples > 20000000) {
-      out.capped = true;
-      out.paths.push_back(front);
-      break;
-    }
-    FrontStep step = advance_front(g, &front, width, s);
-    out.min_hits += step.min_hits;
-    for (const FrontPiece& pc : front) {
-      samples += pc.size();
-      for (std::size_t k = 1; k < pc.size(); ++k) out.length += pc[k - 1].p.Distance(pc[k].p);
-    }
-    // The certificate: each point with a successor against the next path.
-    for (const FrontPiece& pc : front)
-      for (const FrontPoint& q : pc) {
-        if (!q.has_next) continue;
-        out.max_width = std::max(out.max_width, q.spacing);
-        const double c = distance_to_path(q.p, step.next, 4.0 * flat + q.spacing);
-        out.max_spacing = std::max(out.max_spacing, c);
-        out.scallop = std::max(out.scallop, scallop_for_chord(p.ball_radius, c, q.kappa));
+  std::size_t max_paths = 0, samples = 0;
+
+  // Paths from `front` until no point moves (or the cap).
+  void propagate(std::vector<FrontPiece> front) {
+    while (!front.empty()) {
+      progress.check();
+      if (out.paths.size() >= max_paths || samples > 20000000) {
+        out.capped = true;
+        out.paths.push_back(front);
+        return;
       }
-    out.paths.push_back(std::move(front));
-    front = std::move(step.next);
-    double vsum = 0, n = 0;
-    for (const FrontPiece& pc : front)
-      for (const FrontPoint& q : pc) vsum += q.uv.v, n += 1;
-    if (n > 0) progress.report(std::clamp((vsum / n - g.vmin()) / (g.vmax() - g.vmin()), 0.0, 1.0));
+      for (const FrontPiece& pc : front) out.index->add(pc);
+      FrontStep step = advance_front(g, &front, width, s, *out.index);
+      out.min_hits += step.min_hits;
+      for (const FrontPiece& pc : front) {
+        samples += pc.size();
+        for (std::size_t k = 1; k < pc.size(); ++k) out.length += pc[k - 1].p.Distance(pc[k].p);
+      }
+      // The certificate: each point with a successor against the next path.
+      PathIndex next(flat);
+      for (const FrontPiece& pc : step.next) next.add(pc);
+      for (const FrontPiece& pc : front)
+        for (const FrontPoint& q : pc) {
+          if (!q.has_next) continue;
+          out.max_width = std::max(out.max_width, q.spacing);
+          const double c = next.distance(q.p);
+          out.max_spacing = std::max(out.max_spacing, c);
+          out.scallop = std::max(out.scallop, scallop_for_chord(p.ball_radius, c, q.kappa));
+        }
+      out.paths.push_back(std::move(front));
+      front = std::move(step.next);
+    }
   }
-  return out;
+
+  // A short iso-v path through (u, v), about 4 flat stepovers long, both
+  // ways round (its front then spreads to both sides).
+  std::vector<FrontPiece> seed(double u, double v) const {
+    const double speed = g.d1(u, v).su.Magnitude();
+    const double du = speed > 0 ? 0.5 * flat / speed : 0.0;
+    FrontPiece pc;
+    for (int k = -4; k <= 4; ++k) {
+      FrontPoint x;
+      x.uv = {std::clamp(u + k * du, g.umin(), g.umax()), v};
+      x.p = g.eval(x.uv.u, x.uv.v);
+      if (pc.empty() || x.p.Distance(pc.back().p) > 1e-9) pc.push_back(x);
+    }
+    if (pc.size() < 2) return {};
+    resample(g, &pc, s.sample_max);
+    FrontPiece back(pc.rbegin(), pc.rend());
+    for (std::size_t k = 0; k < pc.size(); ++k) pc[k].came = frame_at(g, pc, k).across;
+    for (std::size_t k = 0; k < back.size(); ++k) back[k].came = frame_at(g, back, k).across;
+    return {pc, back};
+  }
+
+  // "Start new paths there": where the front left ground uncovered (it split
+  // at a fold, turned back, or a wedge stayed between its parts), seeds on
+  // the samples of the face (inside its wires) whose distance to the paths
+  // leaves a cusp over h, a few rounds.
+  void fill_gaps() {
+    for (int round = 0; round < 4; ++round) {
+      std::vector<FrontPiece> front;
+      for_each_sample(g, trim, transposed, flat, [&](double u, double v) {
+        const double d = out.index->distance(g.eval(u, v));
+        if (2 * d <= s.min_spacing) return;
+        if (2 * d <= stepover_chord(p.ball_radius, p.scallop_height, towards_path(g, *out.index, u, v)))
+          return;
+        for (FrontPiece& pc : seed(u, v)) {
+          out.index->add(pc);
+          front.push_back(std::move(pc));
+        }
+        ++out.seeds;
+      });
+      if (front.empty()) return;
+      progress.check();
+      propagate(std::move(front));
+    }
+  }
+};
+
+FacePaths trace_paths(const PatchGrid& g, const TrimDomain& trim, bool transposed,
+                      const StripWidth& width, const IsoParams& p, const ProgressSlice& progress) {
+  const double flat = stepover_for_scallop(p.ball_radius, p.scallop_height);
+  Tracer t{g, trim, transposed, width, p, progress, flat, {}, {}};
+  t.s.sample_max = flat;
+  t.s.min_spacing = 0.02 * flat;
+  t.max_paths = static_cast<std::size_t>(8.0 * g.size() / t.s.min_spacing) + 100;
+  t.out.index = std::make_shared<PathIndex>(flat);
+  t.propagate(start_front(g, flat, t.s.sample_max));
+  progress.report(0.8);
+  t.fill_gaps();
+  return std::move(t.out);
 }
 
 // Contact points of a piece as a curve: parameter t in [k, k+1] runs
@@ -301,13 +309,12 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
     try {
       o.grid = std::make_shared<const PatchGrid>(o.dir == IsoDirection::U ? face.grid->transposed()
                                                                            : *face.grid);
-      o.paths = trace_paths(*o.grid, width, params,
+      o.paths = trace_paths(*o.grid, *face.trim, o.dir == IsoDirection::U, width, params,
                             all.sub(0.7 * double(k) / double(tried.size()),
                                     0.7 * double(k + 1) / double(tried.size())));
       const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
-      sample_coverage(*o.grid, *face.trim, o.dir == IsoDirection::U,
-                      ContactIndex(o.paths.paths, flat), params.ball_radius, flat,
-                      o.paths.max_spacing, &o.gap, &o.gap_scallop);
+      sample_coverage(*o.grid, *face.trim, o.dir == IsoDirection::U, *o.paths.index,
+                      params.ball_radius, flat, o.paths.max_spacing, &o.gap, &o.gap_scallop);
     } catch (const Standard_Failure& e) {
       throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
     }

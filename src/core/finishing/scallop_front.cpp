@@ -14,6 +14,9 @@ namespace {
 
 // cos of the largest turn of the front's direction from one path to the next.
 constexpr double kTurnBack = 0.25;
+// A new point this close to the paths so far, relative to its spacing, is
+// where they cut already.
+constexpr double kCovered = 0.7;
 
 // The parameter direction (a, b) with a Su + b Sv the tangential part of
 // `dir`: the first fundamental form [E F; F G] (a, b) = (dir.Su, dir.Sv).
@@ -154,17 +157,19 @@ bool successor(const PatchGrid& g, FrontPiece* piece, std::size_t k, const Strip
   if (f.feed.SquareMagnitude() < 0.5 || f.across.Dot(p.came) < kTurnBack) return false;
   const double wp = std::clamp(width(f), s.min_spacing, s.max_spacing);
   const std::vector<MarchPt> m = march(g, p.uv, p.p, f.across, wp, 0.34 * wp);
-  double D = std::min(wp, m.back().s), kappa = f.kappa_across;
+  // W: the width allowed; D: the spacing, no more than the march went (it
+  // stops on the boundary).
+  double W = wp, D = std::min(wp, m.back().s), kappa = f.kappa_across;
   for (int it = 0; it < 4; ++it) {
     const MarchPt mq = at_length(g, m, D), mm = at_length(g, m, 0.5 * D);
     const StripFrame fq = make_frame(g, mq.uv, f.feed), fm = make_frame(g, mm.uv, f.feed);
     kappa = std::max({f.kappa_across, fq.kappa_across, fm.kappa_across});
-    const double w = std::min({wp, width(fq), width(fm)});
-    if (w >= D * (1 - 1e-3)) break;
-    D = w;
+    W = std::min({W, width(fq), width(fm)});
+    if (W >= D * (1 - 1e-3)) break;
+    D = W;
   }
-  *min_hit = D < s.min_spacing;
-  D = std::max(D, s.min_spacing);
+  *min_hit = W < s.min_spacing;
+  D = std::max(D, std::min(s.min_spacing, m.back().s));
   const MarchPt mq = at_length(g, m, D);
   p.spacing = std::min(D, m.back().s);
   p.kappa = kappa;
@@ -263,11 +268,75 @@ void extend_ends(const PatchGrid& g, FrontPiece* piece, double reach, double ste
   }
 }
 
+std::int64_t cell_key(long i, long j, long k) {
+  return (static_cast<std::int64_t>(i & 0x1FFFFF) << 42) |
+         (static_cast<std::int64_t>(j & 0x1FFFFF) << 21) | static_cast<std::int64_t>(k & 0x1FFFFF);
+}
+
 }  // namespace
+
+void PathIndex::add(const FrontPiece& pc) {
+  for (std::size_t k = 1; k < pc.size(); ++k) {
+    const gp_Pnt &a = pc[k - 1].p, &b = pc[k].p;
+    segs_.emplace_back(a, b);
+    const long i0 = idx(std::min(a.X(), b.X())), i1 = idx(std::max(a.X(), b.X()));
+    const long j0 = idx(std::min(a.Y(), b.Y())), j1 = idx(std::max(a.Y(), b.Y()));
+    const long k0 = idx(std::min(a.Z(), b.Z())), k1 = idx(std::max(a.Z(), b.Z()));
+    for (long i = i0; i <= i1; ++i)
+      for (long j = j0; j <= j1; ++j)
+        for (long q = k0; q <= k1; ++q) grid_[cell_key(i, j, q)].push_back(segs_.size() - 1);
+  }
+}
+
+double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at) const {
+  double best = 2 * cell_;
+  if (at) *at = p;
+  const long i = idx(p.X()), j = idx(p.Y()), q = idx(p.Z());
+  for (long ring = 1; ring <= 2 && best > double(ring - 1) * cell_; ++ring)
+    for (long a = i - ring; a <= i + ring; ++a)
+      for (long b = j - ring; b <= j + ring; ++b)
+        for (long c = q - ring; c <= q + ring; ++c) {
+          const auto it = grid_.find(cell_key(a, b, c));
+          if (it == grid_.end()) continue;
+          for (std::size_t sgi : it->second) {
+            const double d = to_segment(p, sgi);
+            if (d >= best) continue;
+            best = d;
+            if (at) {
+              const gp_Pnt &a0 = segs_[sgi].first, &b0 = segs_[sgi].second;
+              const gp_Vec ab(a0, b0);
+              const double l2 = ab.SquareMagnitude();
+              const double t = l2 > 0 ? std::clamp(gp_Vec(a0, p).Dot(ab) / l2, 0.0, 1.0) : 0.0;
+              *at = a0.Translated(ab * t);
+            }
+          }
+        }
+  return best;
+}
+
+long PathIndex::idx(double x) const { return static_cast<long>(std::floor(x / cell_)); }
+
+double PathIndex::to_segment(const gp_Pnt& p, std::size_t i) const {
+  const gp_Pnt &a = segs_[i].first, &b = segs_[i].second;
+  const gp_Vec ab(a, b), ap(a, p);
+  const double l2 = ab.SquareMagnitude();
+  const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return p.Distance(a.Translated(ab * t));
+}
 
 StripWidth ball_strip_width(double r, double h) {
   const double cap = 4.0 * std::sqrt(2.0 * r * h - h * h);
   return [r, h, cap](const StripFrame& f) { return std::min(cap, stepover_arc(r, h, f.kappa_across)); };
+}
+
+double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir) {
+  const SurfaceDerivs d = g.d1(uv.u, uv.v);
+  const gp_Vec n = g.normal(uv.u, uv.v, &d);
+  const gp_Vec t = tangential(dir, n);
+  if (t.SquareMagnitude() < 0.5) return 0.0;
+  double k1, k2;
+  normal_curvatures(g, uv, n, t, t, &k1, &k2);
+  return k1;
 }
 
 StripFrame frame_at(const PatchGrid& g, const FrontPiece& piece, std::size_t k) {
@@ -338,7 +407,7 @@ std::vector<FrontPiece> start_front(const PatchGrid& g, double w0, double sample
 }
 
 FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, const StripWidth& width,
-                        const FrontSettings& s) {
+                        const FrontSettings& s, const PathIndex& done) {
   FrontStep out;
   for (FrontPiece& piece : *front) {
     FrontPiece cur;
@@ -371,13 +440,21 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
     for (std::size_t k = 0; k < piece.size(); ++k) {
       FrontPoint q;
       bool hit = false;
-      if (successor(g, &piece, k, width, s, &q, &hit)) {
-        cur.push_back(q);
-        feeds.push_back(frame_at(g, piece, k).feed);
-      } else {
-        flush();
-      }
+      const bool moved = successor(g, &piece, k, width, s, &q, &hit);
       out.min_hits += hit ? 1 : 0;
+      if (!moved) {
+        flush();
+        continue;
+      }
+      if (done.distance(q.p) < kCovered * piece[k].spacing) {
+        // Covered already: left out, its neighbours joined across it (a
+        // chord through covered ground), unless they end up far apart.
+        piece[k].has_next = false;
+        continue;
+      }
+      if (!cur.empty() && cur.back().p.Distance(q.p) > 3 * s.sample_max) flush();
+      cur.push_back(q);
+      feeds.push_back(frame_at(g, piece, k).feed);
     }
     flush();
   }

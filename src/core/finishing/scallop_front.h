@@ -9,7 +9,9 @@
 // parameters.
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <unordered_map>
 #include <vector>
 
 #include <gp_Pnt.hxx>
@@ -74,13 +76,39 @@ struct FrontSettings {
 // that meet the boundary of the rectangle at once dropped (the piece splits
 // there); the new pieces resampled to `sample_max`. The source pieces get
 // their points' spacing filled in. `min_hits` counts the points whose
-// spacing was raised to min_spacing.
+// spacing was raised to min_spacing. A new point closer than 0.7 of its
+// spacing to a path so far (`done`, the current one included) is dropped:
+// it lies where those paths' strips already cut (a concave turn of the
+// current path, or a front meeting another), so the front never sweeps back
+// over what is covered.
+// The contact polylines of the paths so far, for nearest-distance queries
+// (a uniform hash grid of segments, cells `cell` wide).
+class PathIndex {
+ public:
+  explicit PathIndex(double cell) : cell_(cell) {}
+  void add(const FrontPiece& piece);
+  // The distance to the nearest segment, or 2 cell if none is that near;
+  // `at`, if given, receives the nearest point (p itself if none is near).
+  double distance(const gp_Pnt& p, gp_Pnt* at = nullptr) const;
+
+ private:
+  long idx(double x) const;
+  double to_segment(const gp_Pnt& p, std::size_t i) const;
+  double cell_;
+  std::vector<std::pair<gp_Pnt, gp_Pnt>> segs_;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
+};
+
 struct FrontStep {
   std::vector<FrontPiece> next;
   int min_hits = 0;
 };
 FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, const StripWidth& width,
-                        const FrontSettings& s);
+                        const FrontSettings& s, const PathIndex& done);
+
+// The normal curvature at uv along the tangential part of `dir` (convex >
+// 0); 0 at a degenerate point.
+double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir);
 
 // The frame at a point of a piece (feed from its neighbours).
 StripFrame frame_at(const PatchGrid& g, const FrontPiece& piece, std::size_t k);
