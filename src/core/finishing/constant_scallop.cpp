@@ -20,8 +20,8 @@ namespace {
 
 using Path = std::vector<FrontPiece>;
 
-// Samples of the face about `step` apart in each patch (at most 8 x 8),
-// inside its wires: f(u, v).
+// Samples of the face about `step` apart (by the patch's corner-to-corner
+// sides; at most 512 a side per patch), inside its wires: f(u, v).
 template <class F>
 void for_each_sample(const PatchGrid& g, const TrimDomain& trim, bool transposed, double step, F f) {
   const auto& ub = g.ubreaks();
@@ -29,11 +29,16 @@ void for_each_sample(const PatchGrid& g, const TrimDomain& trim, bool transposed
   for (int j = 0; j < g.patches_v(); ++j)
     for (int i = 0; i < g.patches_u(); ++i) {
       const std::size_t iu = static_cast<std::size_t>(i), jv = static_cast<std::size_t>(j);
-      const double diag = g.eval(ub[iu], vb[jv]).Distance(g.eval(ub[iu + 1], vb[jv + 1]));
-      const int n = std::clamp(static_cast<int>(std::ceil(diag / step)), 1, 8);
-      for (int a = 0; a < n; ++a)
-        for (int b = 0; b < n; ++b) {
-          const double s = (a + 0.5) / n, t = (b + 0.5) / n;
+      const gp_Pnt c00 = g.eval(ub[iu], vb[jv]);
+      const double su = std::max(c00.Distance(g.eval(ub[iu + 1], vb[jv])),
+                                 g.eval(ub[iu], vb[jv + 1]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
+      const double sv = std::max(c00.Distance(g.eval(ub[iu], vb[jv + 1])),
+                                 g.eval(ub[iu + 1], vb[jv]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
+      const int nu = std::clamp(static_cast<int>(std::ceil(su / step)), 1, 512);
+      const int nv = std::clamp(static_cast<int>(std::ceil(sv / step)), 1, 512);
+      for (int a = 0; a < nu; ++a)
+        for (int b = 0; b < nv; ++b) {
+          const double s = (a + 0.5) / nu, t = (b + 0.5) / nv;
           const double u = ub[iu] + s * (ub[iu + 1] - ub[iu]), v = vb[jv] + t * (vb[jv + 1] - vb[jv]);
           if (transposed ? trim.contains(v, u) : trim.contains(u, v)) f(u, v);
         }
@@ -195,8 +200,19 @@ class PieceCutter {
         clearance_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)) {}
 
   // The clear pieces of centre path over the parts of `pc` inside the face.
-  void cut(const FrontPiece& pc, std::vector<CutPiece>* out, int* curves, double* unreachable) const {
+  // `clipped` receives the contact polyline of each part inside the face.
+  void cut(const FrontPiece& pc, std::vector<CutPiece>* out, int* curves, double* unreachable,
+           PathIndex* clipped) const {
     for (const auto& [a, b] : inside_runs(pc)) {
+      FrontPiece contact;
+      for (double t = a;; t = std::min(b, std::floor(t) + 1.0)) {
+        FrontPoint x;
+        x.uv = uv_at(pc, t);
+        x.p = g_.eval(x.uv.u, x.uv.v);
+        contact.push_back(x);
+        if (t >= b) break;
+      }
+      clipped->add(contact);
       std::vector<gp_Pnt> pts;
       std::vector<double> ts;
       auto f = [&](double t) { return centre(uv_at(pc, t)); };
@@ -254,7 +270,9 @@ class PieceCutter {
     bool in = inside(pc[0].uv);
     double start = 0.0;
     for (std::size_t k = 0; k + 1 < pc.size(); ++k) {
-      const int state = classify(pc[k].uv, pc[k + 1].uv);
+      int state = classify(pc[k].uv, pc[k + 1].uv);
+      // An end inside (or the previous run open) contradicts "outside": test it.
+      if (state == -1 && (in || inside(pc[k + 1].uv))) state = 0;
       if (state == 1 && in) continue;
       std::vector<double> ts;
       if (state == 0)
@@ -337,20 +355,28 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
   std::vector<double> unreachable(nf, 0.0);
   for_each_index(nf, params.threads, [&](std::size_t f) {
     all.check();
-    const FaceOut& o = chosen[f];
+    FaceOut& o = chosen[f];
     try {
       const bool transposed = o.dir == IsoDirection::U;
       const PieceCutter cutter(*o.grid, *faces[f].trim, transposed, params, model);
+      const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
+      PathIndex clipped(flat);
       for (std::size_t i = 0; i < o.paths.paths.size(); ++i) {
         all.check();
         std::vector<CutPiece> pieces;
-        for (const FrontPiece& pc : o.paths.paths[i]) cutter.cut(pc, &pieces, &curves[f], &unreachable[f]);
+        for (const FrontPiece& pc : o.paths.paths[i])
+          cutter.cut(pc, &pieces, &curves[f], &unreachable[f], &clipped);
         if (i % 2 == 1) {  // zig-zag
           std::reverse(pieces.begin(), pieces.end());
           for (CutPiece& pc : pieces) pc.reverse();
         }
         std::move(pieces.begin(), pieces.end(), std::back_inserter(cut[f]));
       }
+      // The certificate on the clipped paths: near a hole's wire that runs
+      // along the passes, the pass that would have cut there was clipped
+      // away (as isocurves are), and this measures what is left.
+      sample_coverage(*o.grid, *faces[f].trim, transposed, clipped, params.ball_radius, 0.5 * flat,
+                      o.paths.max_spacing, &chosen[f].gap, &chosen[f].gap_scallop);
     } catch (const Standard_Failure& e) {
       throw GeometryError(face_label(faces[f].index) + ": OpenCASCADE failed: " + e.GetMessageString());
     }
