@@ -64,7 +64,9 @@ void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed
                      const PathIndex& index, double r, double step, double ok,
                      double* max_gap, double* scallop) {
   for_each_sample(g, trim, transposed, step, [&](double u, double v) {
-    const double d = index.distance(g.eval(u, v));
+    // Stops at a segment nearer than the largest gap so far and ok / 2:
+    // such a sample changes neither number.
+    const double d = index.distance(g.eval(u, v), nullptr, std::min(*max_gap, 0.5 * ok));
     *max_gap = std::max(*max_gap, d);
     if (2 * d <= ok) return;
     *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, towards_path(g, index, u, v)));

@@ -288,7 +288,7 @@ void PathIndex::add(const FrontPiece& pc) {
   }
 }
 
-double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at) const {
+double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough) const {
   double best = 2 * cell_;
   if (at) *at = p;
   const long i = idx(p.X()), j = idx(p.Y()), q = idx(p.Z());
@@ -302,6 +302,7 @@ double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at) const {
             const double d = to_segment(p, sgi);
             if (d >= best) continue;
             best = d;
+            if (best <= enough && !at) return best;
             if (at) {
               const gp_Pnt &a0 = segs_[sgi].first, &b0 = segs_[sgi].second;
               const gp_Vec ab(a0, b0);
@@ -446,7 +447,7 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
         flush();
         continue;
       }
-      if (done.distance(q.p) < kCovered * piece[k].spacing) {
+      if (done.distance(q.p, nullptr, kCovered * piece[k].spacing) < kCovered * piece[k].spacing) {
         // Covered already: left out, its neighbours joined across it (a
         // chord through covered ground), unless they end up far apart.
         piece[k].has_next = false;

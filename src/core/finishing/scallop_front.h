@@ -89,7 +89,9 @@ class PathIndex {
   void add(const FrontPiece& piece);
   // The distance to the nearest segment, or 2 cell if none is that near;
   // `at`, if given, receives the nearest point (p itself if none is near).
-  double distance(const gp_Pnt& p, gp_Pnt* at = nullptr) const;
+  // With `enough` > 0 the search may stop at the first segment that near:
+  // the answer is then at most `enough` (not the least distance).
+  double distance(const gp_Pnt& p, gp_Pnt* at = nullptr, double enough = 0.0) const;
 
  private:
   long idx(double x) const;
