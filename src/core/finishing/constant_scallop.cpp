@@ -310,6 +310,103 @@ struct FaceOut {
   bool meets(double h) const { return std::max(paths.scallop, gap_scallop) <= 1.05 * h; }
 };
 
+// Phase 1: the paths of every face in every direction tried (tasks on
+// threads), each with its certificate before the clip.
+std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
+                                const std::vector<IsoDirection>& dirs, const StripWidth& width,
+                                const IsoParams& params, const ProgressSlice& all) {
+  const std::size_t nd = dirs.size();
+  const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  std::vector<FaceOut> tried(faces.size() * nd);
+  for_each_index(tried.size(), params.threads, [&](std::size_t k) {
+    const ScallopFace& face = faces[k / nd];
+    FaceOut& o = tried[k];
+    o.dir = dirs[k % nd];
+    const bool transposed = o.dir == IsoDirection::U;
+    try {
+      o.grid = std::make_shared<const PatchGrid>(transposed ? face.grid->transposed() : *face.grid);
+      const double n = double(tried.size());
+      o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params,
+                            all.sub(0.7 * double(k) / n, 0.7 * double(k + 1) / n));
+      sample_coverage(*o.grid, *face.trim, transposed, *o.paths.index, params.ball_radius, flat,
+                      o.paths.max_spacing, &o.gap, &o.gap_scallop);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+  });
+  return tried;
+}
+
+// Phase 2: per face, the direction that meets the scallop by its
+// certificate, then the shorter one.
+std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h) {
+  std::vector<FaceOut> chosen(tried.size() / nd);
+  for (std::size_t f = 0; f < chosen.size(); ++f) {
+    std::size_t best = f * nd;
+    for (std::size_t d = 1; d < nd; ++d) {
+      const FaceOut &a = tried[f * nd + d], &b = tried[best];
+      const bool ma = a.meets(h), mb = b.meets(h);
+      if ((ma && !mb) || (ma == mb && a.paths.length < b.paths.length)) best = f * nd + d;
+    }
+    chosen[f] = std::move(tried[best]);
+  }
+  return chosen;
+}
+
+struct FaceCut {
+  std::vector<CutPiece> pieces;
+  int curves = 0;
+  double unreachable = 0.0;
+};
+
+// Phase 3: a face's paths clipped, offset, cut for clearance, zig-zag; and
+// its certificate measured again on the clipped paths (near a hole's wire
+// that runs along the passes, the pass that would have cut there was
+// clipped away, as isocurves are).
+FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
+                 const ClearanceModel& model, const ProgressSlice& all) {
+  FaceCut out;
+  const bool transposed = o->dir == IsoDirection::U;
+  const PieceCutter cutter(*o->grid, *face.trim, transposed, params, model);
+  const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
+  PathIndex clipped(flat);
+  for (std::size_t i = 0; i < o->paths.paths.size(); ++i) {
+    all.check();
+    std::vector<CutPiece> pieces;
+    for (const FrontPiece& pc : o->paths.paths[i])
+      cutter.cut(pc, &pieces, &out.curves, &out.unreachable, &clipped);
+    if (i % 2 == 1) {  // zig-zag
+      std::reverse(pieces.begin(), pieces.end());
+      for (CutPiece& pc : pieces) pc.reverse();
+    }
+    std::move(pieces.begin(), pieces.end(), std::back_inserter(out.pieces));
+  }
+  sample_coverage(*o->grid, *face.trim, transposed, clipped, params.ball_radius, 0.5 * flat,
+                  o->paths.max_spacing, &o->gap, &o->gap_scallop);
+  return out;
+}
+
+// Phase 4: one face's part of the result.
+void add_face(const FaceOut& o, FaceCut cut, int face_index, ScallopPieces* out) {
+  const FacePaths& fp = o.paths;
+  out->face_direction.push_back(o.dir);
+  out->paths += static_cast<int>(fp.paths.size());
+  out->curves += cut.curves;
+  out->unreachable_length += cut.unreachable;
+  out->max_spacing = std::max({out->max_spacing, fp.max_spacing, 2 * o.gap});
+  out->guaranteed_scallop = std::max({out->guaranteed_scallop, fp.scallop, o.gap_scallop});
+  out->max_width = std::max(out->max_width, fp.max_width);
+  std::move(cut.pieces.begin(), cut.pieces.end(), std::back_inserter(out->pieces));
+  if (fp.min_hits > 0)
+    out->warnings.push_back(face_label(face_index) + ": the strip width asked for a spacing below " +
+                            "the minimum (2% of the flat stepover) at " + std::to_string(fp.min_hits) +
+                            " points; the minimum was used there (see guaranteed_scallop)");
+  if (fp.capped)
+    out->warnings.push_back(face_label(face_index) + ": constant-scallop paths stopped at " +
+                            std::to_string(fp.paths.size()) +
+                            " paths (the cap); the face may not be covered");
+}
+
 }  // namespace
 
 ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
@@ -319,90 +416,22 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
       width_in ? width_in : ball_strip_width(params.ball_radius, params.scallop_height);
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (params.direction != IsoDirection::Auto) dirs = {params.direction};
-  const std::size_t nd = dirs.size(), nf = faces.size();
   const ProgressSlice all(progress);
-  std::vector<FaceOut> tried(nf * nd);
-  for_each_index(tried.size(), params.threads, [&](std::size_t k) {
-    const ScallopFace& face = faces[k / nd];
-    FaceOut& o = tried[k];
-    o.dir = dirs[k % nd];
-    try {
-      o.grid = std::make_shared<const PatchGrid>(o.dir == IsoDirection::U ? face.grid->transposed()
-                                                                           : *face.grid);
-      o.paths = trace_paths(*o.grid, *face.trim, o.dir == IsoDirection::U, width, params,
-                            all.sub(0.7 * double(k) / double(tried.size()),
-                                    0.7 * double(k + 1) / double(tried.size())));
-      const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
-      sample_coverage(*o.grid, *face.trim, o.dir == IsoDirection::U, *o.paths.index,
-                      params.ball_radius, flat, o.paths.max_spacing, &o.gap, &o.gap_scallop);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
-    }
-  });
-  ScallopPieces out;
-  std::vector<FaceOut> chosen(nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    // The direction that meets the scallop by its certificate, then the
-    // shorter one.
-    std::size_t best = f * nd;
-    for (std::size_t d = 1; d < nd; ++d) {
-      const FaceOut &a = tried[f * nd + d], &b = tried[best];
-      const bool ma = a.meets(params.scallop_height), mb = b.meets(params.scallop_height);
-      if ((ma && !mb) || (ma == mb && a.paths.length < b.paths.length)) best = f * nd + d;
-    }
-    chosen[f] = std::move(tried[best]);
-  }
-  std::vector<std::vector<CutPiece>> cut(nf);
-  std::vector<int> curves(nf, 0);
-  std::vector<double> unreachable(nf, 0.0);
-  for_each_index(nf, params.threads, [&](std::size_t f) {
+  std::vector<FaceOut> chosen =
+      choose(plan_faces(faces, dirs, width, params, all), dirs.size(), params.scallop_height);
+  std::vector<FaceCut> cut(faces.size());
+  for_each_index(faces.size(), params.threads, [&](std::size_t f) {
     all.check();
-    FaceOut& o = chosen[f];
     try {
-      const bool transposed = o.dir == IsoDirection::U;
-      const PieceCutter cutter(*o.grid, *faces[f].trim, transposed, params, model);
-      const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
-      PathIndex clipped(flat);
-      for (std::size_t i = 0; i < o.paths.paths.size(); ++i) {
-        all.check();
-        std::vector<CutPiece> pieces;
-        for (const FrontPiece& pc : o.paths.paths[i])
-          cutter.cut(pc, &pieces, &curves[f], &unreachable[f], &clipped);
-        if (i % 2 == 1) {  // zig-zag
-          std::reverse(pieces.begin(), pieces.end());
-          for (CutPiece& pc : pieces) pc.reverse();
-        }
-        std::move(pieces.begin(), pieces.end(), std::back_inserter(cut[f]));
-      }
-      // The certificate on the clipped paths: near a hole's wire that runs
-      // along the passes, the pass that would have cut there was clipped
-      // away (as isocurves are), and this measures what is left.
-      sample_coverage(*o.grid, *faces[f].trim, transposed, clipped, params.ball_radius, 0.5 * flat,
-                      o.paths.max_spacing, &chosen[f].gap, &chosen[f].gap_scallop);
+      cut[f] = cut_face(&chosen[f], faces[f], params, model, all);
     } catch (const Standard_Failure& e) {
       throw GeometryError(face_label(faces[f].index) + ": OpenCASCADE failed: " + e.GetMessageString());
     }
   });
   all.report(0.95);
-  for (std::size_t f = 0; f < nf; ++f) {
-    const FacePaths& fp = chosen[f].paths;
-    out.face_direction.push_back(chosen[f].dir);
-    out.paths += static_cast<int>(fp.paths.size());
-    out.curves += curves[f];
-    out.unreachable_length += unreachable[f];
-    out.max_spacing = std::max({out.max_spacing, fp.max_spacing, 2 * chosen[f].gap});
-    out.guaranteed_scallop = std::max({out.guaranteed_scallop, fp.scallop, chosen[f].gap_scallop});
-    out.max_width = std::max(out.max_width, fp.max_width);
-    std::move(cut[f].begin(), cut[f].end(), std::back_inserter(out.pieces));
-    if (fp.min_hits > 0)
-      out.warnings.push_back(face_label(faces[f].index) + ": the strip width asked for a spacing below " +
-                             "the minimum (2% of the flat stepover) at " + std::to_string(fp.min_hits) +
-                             " points; the minimum was used there (see guaranteed_scallop)");
-    if (fp.capped)
-      out.warnings.push_back(face_label(faces[f].index) + ": constant-scallop paths stopped at " +
-                             std::to_string(fp.paths.size()) +
-                             " paths (the cap); the face may not be covered");
-  }
+  ScallopPieces out;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    add_face(chosen[f], std::move(cut[f]), faces[f].index, &out);
   return out;
 }
 
