@@ -57,9 +57,10 @@ double towards_path(const PatchGrid& g, const PathIndex& index, double u, double
 
 // Definition 1 measured on the face: each sample at distance d from the
 // nearest contact polyline; the ball there leaves at most the cusp of
-// contact points 2 d apart on the most convex normal curvature at the
-// sample towards the path (towards_path()). Samples within `ok` / 2 of a path (no worse than the adjacent
-// pairs) skip the curvature.
+// contact points 2 d apart on the normal curvature at the sample towards
+// the path (towards_path()). Samples on concave ground tighter than the
+// ball, where it cannot touch, count in neither number; samples within
+// `ok` / 2 of a path (no worse than the adjacent pairs) skip the curvature.
 void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed,
                      const PathIndex& index, double r, double step, double ok,
                      double* max_gap, double* scallop) {
@@ -67,9 +68,16 @@ void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed
     // Stops at a segment nearer than the largest gap so far and ok / 2:
     // such a sample changes neither number.
     const double d = index.distance(g.eval(u, v), nullptr, std::min(*max_gap, 0.5 * ok));
+    if (2 * d <= ok) {
+      *max_gap = std::max(*max_gap, d);
+      return;
+    }
+    // Concave ground tighter than the ball: it cannot touch there (its
+    // offset folds; the clearance cut reports that path as unreachable).
+    const double kappa = towards_path(g, index, u, v);
+    if (kappa * r <= -1.0) return;
     *max_gap = std::max(*max_gap, d);
-    if (2 * d <= ok) return;
-    *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, towards_path(g, index, u, v)));
+    *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, kappa));
   });
 }
 
@@ -157,8 +165,9 @@ struct Tracer {
       for_each_sample(g, trim, transposed, flat, [&](double u, double v) {
         const double d = out.index->distance(g.eval(u, v));
         if (2 * d <= s.min_spacing) return;
-        if (2 * d <= stepover_chord(p.ball_radius, p.scallop_height, towards_path(g, *out.index, u, v)))
-          return;
+        const double kappa = towards_path(g, *out.index, u, v);
+        if (kappa * p.ball_radius <= -1.0) return;  // the ball cannot touch there
+        if (2 * d <= stepover_chord(p.ball_radius, p.scallop_height, kappa)) return;
         for (FrontPiece& pc : seed(u, v)) {
           out.index->add(pc);
           front.push_back(std::move(pc));
