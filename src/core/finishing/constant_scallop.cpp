@@ -124,7 +124,8 @@ struct Tracer {
       for (const FrontPiece& pc : step.next) next.add(pc);
       for (const FrontPiece& pc : front)
         for (const FrontPoint& q : pc) {
-          if (!q.has_next) continue;
+          // Concave ground tighter than the ball: it cannot touch there.
+          if (!q.has_next || q.kappa * p.ball_radius <= -1.0) continue;
           out.max_width = std::max(out.max_width, q.spacing);
           const double c = next.distance(q.p);
           out.max_spacing = std::max(out.max_spacing, c);
