@@ -44,8 +44,9 @@ OP_NAME = "AdaptiveIsocurve"
 
 DIRECTIONS = ("Auto", "U", "V")
 # The pattern: Algorithm 1, or one of the two yardsticks with the same
-# guarantee (complete isocurves equally spaced; planes of constant X or Y).
-PATTERNS = ("Adaptive", "Uniform", "ParallelPlanes")
+# guarantee (complete isocurves equally spaced; planes of constant X or Y),
+# or non-isoparametric passes placed by the strip width (Lee 1998).
+PATTERNS = ("Adaptive", "Uniform", "ParallelPlanes", "ConstantScallop")
 SCALLOP_BOUNDS = ("Curvature", "Flat")
 _ENUMERATIONS = {
     "Direction": DIRECTIONS,
@@ -70,7 +71,9 @@ _INPUTS = (
         "Adaptive: sub-isocurves only where needed (Elber & Cohen, Algorithm 1). "
         "Uniform: complete isocurves equally spaced in parameter. ParallelPlanes: "
         "planes of constant X or Y. All three keep the same scallop guarantee "
-        "(the last two are the yardsticks).",
+        "(the last two are the yardsticks). ConstantScallop: passes that are not "
+        "isocurves, each placed from the one before by the width of the strip it "
+        "machines (Lee 1998); its certificate is measured between the passes.",
         "Adaptive",
     ),
     (

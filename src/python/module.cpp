@@ -98,7 +98,8 @@ PYBIND11_MODULE(isocam_core, m) {
   py::enum_<IsoPattern>(m, "IsoPattern")
       .value("Adaptive", IsoPattern::Adaptive)
       .value("Uniform", IsoPattern::Uniform)
-      .value("ParallelPlanes", IsoPattern::ParallelPlanes);
+      .value("ParallelPlanes", IsoPattern::ParallelPlanes)
+      .value("ConstantScallop", IsoPattern::ConstantScallop);
   py::enum_<IsoPlaneAxis>(m, "IsoPlaneAxis")
       .value("Auto", IsoPlaneAxis::Auto)
       .value("X", IsoPlaneAxis::X)

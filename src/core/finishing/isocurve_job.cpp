@@ -16,6 +16,7 @@
 
 #include <Standard_Failure.hxx>
 
+#include "finishing/constant_scallop.h"
 #include "finishing/coverage.h"
 #include "finishing/face_side.h"
 #include "finishing/job_budget.h"
@@ -271,6 +272,33 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
                              params.scallop_height);
     pieces = std::move(cut.pieces);
   }
+  // ConstantScallop: its own engine per face (constant_scallop.cpp); its
+  // pieces join the others' linking below.
+  const bool scallop = params.pattern == IsoPattern::ConstantScallop;
+  if (scallop) {
+    std::vector<ScallopFace> scallop_faces;
+    for (std::size_t k : picked)
+      scallop_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
+    // The strips are spaced for the cusp the budget leaves (the scallop
+    // height less the centres' error e = chord + posted rounding), and the
+    // guarantee adds e back, as for the isocurves (see the header).
+    const double e = budget.centre_error();
+    IsoParams cusp_params = params;
+    cusp_params.scallop_height = params.scallop_height - e;
+    ScallopPieces cut = constant_scallop_pieces(scallop_faces, cusp_params, model, progress);
+    result.face_direction = cut.face_direction;
+    result.metrics.sub_isocurves = cut.curves;
+    result.metrics.unreachable_length = cut.unreachable_length;
+    result.metrics.delta_max = cut.max_width;
+    max_dist = cut.max_spacing;
+    max_scallop = e + cut.guaranteed_scallop;
+    result.warnings.insert(result.warnings.end(), cut.warnings.begin(), cut.warnings.end());
+    for (std::size_t k : picked)
+      result.metrics.lower_bound_length +=
+          lower_bound_length(model_faces[k].grid, &*model_faces[k].trim, params.ball_radius,
+                             params.scallop_height);
+    pieces = std::move(cut.pieces);
+  }
   // Faces, and the directions of one face under Auto, are independent until
   // linking: plan them as tasks (face, direction) on several threads (two
   // directions of one face share its trimmed domain, whose hatcher is
@@ -280,7 +308,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   // does not depend on the number of threads.
   const std::vector<IsoDirection> dirs = directions_to_try(params);
   const std::size_t nd = dirs.size();
-  const std::size_t tasks = planes ? 0 : picked.size() * nd;
+  const std::size_t tasks = planes || scallop ? 0 : picked.size() * nd;
   const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
   std::vector<FaceResult> tried(tasks);
   for_each_index(tasks, params.threads, [&](std::size_t k) {
@@ -298,7 +326,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     }
   });
   // Per face, the first direction tried unless another plans strictly less.
-  std::vector<FaceResult> done(planes ? 0 : picked.size());
+  std::vector<FaceResult> done(planes || scallop ? 0 : picked.size());
   for (std::size_t f = 0; f < done.size(); ++f) {
     std::size_t best = f * nd;
     for (std::size_t di = 1; di < nd; ++di)

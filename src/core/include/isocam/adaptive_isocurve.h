@@ -66,6 +66,9 @@ enum class IsoPattern {
   // offset S + r N in parallel planes of constant x (or y) delta apart, as
   // commercial raster finishing does. See "ParallelPlanes" below.
   ParallelPlanes,
+  // Non-isoparametric passes placed by the machining strip width (Y.S. Lee
+  // 1998): see "ConstantScallop" below.
+  ConstantScallop,
 };
 
 // The planes of IsoPattern::ParallelPlanes.
@@ -205,6 +208,24 @@ struct IsoResult {
 //    without bound on walls facing the axis (capped at 1e6 delta), which is
 //    the pattern's weakness (the paper's Figure 3b); `guaranteed_scallop` is
 //    the flat-ground scallop of that spacing (at most the ball radius).
+
+// ConstantScallop: per face, a start path on the face's boundary isocurve
+// (v = vmin for V, u = umin for U; Auto: the direction with the shorter
+// paths), then each next path from the one before by a march on the surface
+// across the feed, by the spacing that the strip width (the stepover of
+// finishing/stepover.h on the curvature across the feed) allows at both
+// paths and between them; folds and loops cut out, the paths clipped to the
+// trimmed face and cut by the same global clearance check, zig-zag, linked
+// like the other pieces (finishing/constant_scallop.h). For this pattern:
+//  - `curves` is empty; `face_direction` is the direction of the start path;
+//  - `sub_isocurves` counts the path pieces inside the faces;
+//  - `max_iso_distance` is the largest distance measured from a sample of a
+//    path to the next path, and `guaranteed_scallop` the centres' error e
+//    (see "The guarantees") plus the cusp of that distance on the largest
+//    curvature across seen between them (measured at the samples, as the
+//    other patterns measure per patch; the strips are spaced for a cusp of
+//    scallop_height - e, with balls of radius r);
+//  - `delta_max` is the largest spacing used.
 
 // delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2); r finite
 // and > 0, 0 < h <= r, else InvalidArgument.

@@ -1,0 +1,219 @@
+// The constant-scallop pattern (IsoPattern::ConstantScallop, after Lee 1998):
+// on a plane, a cylinder, a sphere cap and the Figure 2 ruled surface, every
+// face point within half the largest spacing of the path's contact points
+// (Definition 1 with the strip half-width, on an independent dense
+// sampling), the scallop measured on the swept balls under the requested
+// height, the certificate true, no gouge; shorter than the Adaptive pattern
+// where isocurves crowd; and a strip width that shrinks to nothing ends in a
+// warning, not a hang.
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRep_Tool.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_Surface.hxx>
+#include <cmath>
+#include <functional>
+#include <gp_Pln.hxx>
+#include <iostream>
+
+#include "finishing/constant_scallop.h"
+#include "isocam/adaptive_isocurve.h"
+#include "isocam/brep_io.h"
+#include "support/checks.h"
+#include "support/models.h"
+
+namespace isocam {
+namespace {
+
+IsoParams scallop_params(double r, double h) {
+  IsoParams p;
+  p.ball_radius = r;
+  p.scallop_height = h;
+  p.pattern = IsoPattern::ConstantScallop;
+  p.safe_z = 1000;
+  return p;
+}
+
+// The contact points of the feed moves: each ball centre (tip + r z)
+// projected onto the face's surface by OpenCASCADE, joined move by move.
+test::SegmentIndex contact_segments(const TopoDS_Face& face, const Toolpath& t, double r,
+                                    double cell) {
+  Handle(Geom_Surface) s = BRep_Tool::Surface(face);
+  test::SegmentIndex out(cell);
+  auto foot = [&](std::size_t i, gp_Pnt* q) {
+    GeomAPI_ProjectPointOnSurf proj(gp_Pnt(t.x[i], t.y[i], t.z[i] + r), s);
+    if (proj.NbPoints() == 0) return false;
+    *q = proj.NearestPoint();
+    return true;
+  };
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t.kind[i] != static_cast<std::uint8_t>(MoveKind::Feed)) continue;
+    gp_Pnt a, b;
+    if (foot(i - 1, &a) && foot(i, &b)) out.add(a, b);
+  }
+  return out;
+}
+
+struct Checked {
+  double gap = 0.0, scallop = 0.0, closest = 0.0;
+  int uncovered = 0;
+};
+
+// The invariants on one face: coverage, measured scallop, no gouge.
+Checked check_face(const TopoDS_Shape& shape, int face_index, const IsoResult& res,
+                   const IsoParams& p) {
+  const TopoDS_Face face = test::face(shape, face_index);
+  Checked c;
+  const double delta = res.metrics.delta;
+  c.gap = test::coverage_gap(face, contact_segments(face, res.path, p.ball_radius, delta), 120,
+                             2 * delta);
+  const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0);
+  c.scallop = s.max;
+  c.uncovered = s.uncovered;
+  const test::FaceCloud cloud(face, 400);
+  c.closest = test::min_centre_distance(cloud, res.path, p.ball_radius, 4000);
+  std::cout << "  coverage gap " << c.gap << " (largest spacing " << res.metrics.delta_max
+            << ", flat stepover " << delta << "), measured scallop " << c.scallop << " ("
+            << s.uncovered << " of " << s.samples << " uncovered), certified "
+            << res.metrics.guaranteed_scallop << ", max spacing measured "
+            << res.metrics.max_iso_distance << ", cutting " << res.metrics.cutting_length
+            << " mm, L* " << res.metrics.lower_bound_length << ", closest centre " << c.closest
+            << "\n";
+  return c;
+}
+
+void expect_invariants(const Checked& c, const IsoResult& res, const IsoParams& p) {
+  // Definition 1 with the strip half-width: no face point farther than half
+  // the largest spacing (plus the chord tolerance and the sampling).
+  EXPECT_LT(c.gap, 0.5 * res.metrics.delta_max + p.chord_tolerance + 0.02 * res.metrics.delta);
+  EXPECT_EQ(c.uncovered, 0);
+  // The scallop as cut, and the certificate true (chords cut into a convex
+  // offset, which lowers cusps; the 3% covers what the sampling misses).
+  EXPECT_LE(c.scallop, 1.03 * p.scallop_height + 1e-4);
+  EXPECT_LE(c.scallop, res.metrics.guaranteed_scallop * 1.03 + 1e-4);
+  EXPECT_LE(res.metrics.guaranteed_scallop, 1.05 * p.scallop_height);
+  EXPECT_GE(c.closest, p.ball_radius - p.chord_tolerance - p.gouge_tolerance - 1e-6);
+}
+
+TEST(ConstantScallop, PlaneGetsPassesOneStepoverApart) {
+  const TopoDS_Face plate = BRepBuilderAPI_MakeFace(gp_Pln(gp::Origin(), gp::DZ()), 0, 40, 0, 30);
+  IsoParams p = scallop_params(3.0, 0.05);
+  p.direction = IsoDirection::V;  // start on the 40 mm side, step across the 30 mm one
+  const IsoResult res = adaptive_isocurve(plate, {0}, p);
+  const double delta = res.metrics.delta;
+  EXPECT_TRUE(res.curves.empty());
+  // On flat ground the strip width is the flat stepover everywhere: the
+  // passes are that far apart, and the 30 mm side needs ceil(30 / delta) + 1.
+  EXPECT_NEAR(res.metrics.max_iso_distance, delta, 1e-3 * delta);
+  EXPECT_NEAR(res.metrics.guaranteed_scallop, p.scallop_height, 1e-3 * p.scallop_height);
+  EXPECT_EQ(res.metrics.sub_isocurves, static_cast<int>(std::ceil(30 / delta)) + 1);
+  std::cout << "plane:\n";
+  expect_invariants(check_face(plate, 0, res, p), res, p);
+}
+
+TEST(ConstantScallop, CylinderConvexGroundKeepsTheScallop) {
+  const TopoDS_Shape cyl = BRepPrimAPI_MakeCylinder(8.0, 20.0).Shape();
+  IsoParams p = scallop_params(3.0, 0.05);
+  p.chord_tolerance = 0.002;
+  p.direction = IsoDirection::U;  // paths along the axis, stepping round it
+  const IsoResult res = adaptive_isocurve(cyl, {0}, p);
+  std::cout << "cylinder:\n";
+  const Checked c = check_face(cyl, 0, res, p);
+  expect_invariants(c, res, p);
+  // Convex: the strip is narrower than on flat ground, and used.
+  EXPECT_LT(res.metrics.delta_max, res.metrics.delta);
+  EXPECT_GT(c.scallop, 0.7 * p.scallop_height);
+}
+
+TEST(ConstantScallop, SphereCapIsCoveredWithoutGouge) {
+  const TopoDS_Shape cap = BRepPrimAPI_MakeSphere(20.0, M_PI / 6, M_PI / 2).Shape();
+  IsoParams p = scallop_params(3.0, 0.05);
+  p.chord_tolerance = 0.002;
+  const IsoResult res = adaptive_isocurve(cap, {0}, p);
+  std::cout << "sphere cap:\n";
+  expect_invariants(check_face(cap, 0, res, p), res, p);
+}
+
+TEST(ConstantScallop, Figure2IsCoveredAndShorterThanAdaptive) {
+  const TopoDS_Face f = test::figure2_ruled_surface();
+  IsoParams p = scallop_params(5.0, 0.1);
+  const IsoResult res = adaptive_isocurve(f, {0}, p);
+  p.pattern = IsoPattern::Adaptive;
+  const IsoResult adaptive = adaptive_isocurve(f, {0}, p);
+  p.pattern = IsoPattern::ConstantScallop;
+  std::cout << "Figure 2: adaptive " << adaptive.metrics.cutting_length << " mm\n";
+  expect_invariants(check_face(f, 0, res, p), res, p);
+  EXPECT_LT(res.metrics.cutting_length, adaptive.metrics.cutting_length);
+}
+
+// A trimmed face (face.brep: a plate with two holes): the paths are clipped
+// to the wires, so no contact point of a feed move lies outside the face,
+// the trimmed domain is covered within the spacing, and the certificate
+// counts what the clipping leaves.
+TEST(ConstantScallop, TrimmedPlateIsClippedToItsWiresAndCovered) {
+  const TopoDS_Shape shape = test::load("face.brep");
+  const TopoDS_Face face = test::face(shape, 0);
+  const IsoParams p = scallop_params(3.0, 0.05);
+  const IsoResult res = adaptive_isocurve(shape, {0}, p);
+  Handle(Geom_Surface) s = BRep_Tool::Surface(face);
+  int outside = 0, feeds = 0;
+  test::SegmentIndex contacts(res.metrics.delta);
+  gp_Pnt prev;
+  bool have = false;
+  for (std::size_t i = 0; i < res.path.size(); ++i) {
+    const bool feed = res.path.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed);
+    GeomAPI_ProjectPointOnSurf proj(gp_Pnt(res.path.x[i], res.path.y[i], res.path.z[i] + p.ball_radius), s);
+    ASSERT_GT(proj.NbPoints(), 0);
+    const gp_Pnt foot = proj.NearestPoint();
+    if (feed) {
+      ++feeds;
+      if (!test::in_face(face, foot, 1e-6)) ++outside;
+      // A feed move whose middle is on the face cuts (links over a hole do not).
+      GeomAPI_ProjectPointOnSurf mid(gp_Pnt((prev.XYZ() + foot.XYZ()) * 0.5), s);
+      if (have && mid.NbPoints() > 0 && test::in_face(face, mid.NearestPoint(), 1e-6))
+        contacts.add(prev, foot);
+    }
+    prev = foot;
+    have = true;
+  }
+  EXPECT_EQ(outside, 0) << "of " << feeds << " feed points";
+  const double gap = test::coverage_gap(face, contacts, 200, 2 * res.metrics.delta);
+  std::cout << "face.brep: " << res.metrics.sub_isocurves << " pieces, coverage gap " << gap
+            << " (largest spacing " << res.metrics.delta_max << "), cutting "
+            << res.metrics.cutting_length << " mm, L* " << res.metrics.lower_bound_length
+            << ", unreachable " << res.metrics.unreachable_length << " mm\n";
+  // Paths are computed on the untrimmed surface and clipped (as isocurves
+  // are): where a hole's wire runs along the passes, the pass that would cut
+  // next to it is clipped away and the ground there is within the full
+  // spacing only. The certificate says so: it is measured on the clipped
+  // paths.
+  EXPECT_LT(gap, res.metrics.delta_max + p.chord_tolerance);
+  EXPECT_GE(res.metrics.max_iso_distance, 1.8 * gap);
+  EXPECT_GE(res.metrics.guaranteed_scallop, 0.9 * scallop_for_stepover(p.ball_radius, 2 * gap));
+}
+
+// A strip width that shrinks to nothing (a pluggable one: a tool that
+// cannot cut a strip): the minimum spacing is used, a warning says so, and
+// the face is still covered in finitely many paths.
+TEST(ConstantScallop, VanishingStripWidthEndsInAWarning) {
+  const TopoDS_Face plate = BRepBuilderAPI_MakeFace(gp_Pln(gp::Origin(), gp::DZ()), 0, 10, 0, 3);
+  const IsoParams p = scallop_params(3.0, 0.05);
+  PatchGrid grid = PatchGrid::from_face(plate, 0);
+  const TrimDomain trim(plate, grid, 0);
+  ClearanceModel model(p.gouge_tolerance, 2 * p.ball_radius);
+  model.add(grid, &trim);
+  model.build();
+  const StripWidth nothing = [](const StripFrame& f) { return f.p.X() > 5 ? 1e-12 : 1.0; };
+  const ScallopPieces out = constant_scallop_pieces({{0, &grid, &trim}}, p, model, nullptr, nothing);
+  ASSERT_EQ(out.warnings.size(), 1u);
+  EXPECT_NE(out.warnings[0].find("minimum"), std::string::npos) << out.warnings[0];
+  const double flat = stepover_for_scallop(p.ball_radius, p.scallop_height);
+  EXPECT_LE(out.max_spacing, 1.0 + 1e-6);
+  EXPECT_GT(out.paths, 3.0 / (0.02 * flat));  // the narrow half at the minimum spacing
+}
+
+}  // namespace
+}  // namespace isocam
