@@ -422,6 +422,10 @@ void add_face(const FaceOut& o, FaceCut cut, int face_index, ScallopPieces* out)
 ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
                                       const IsoParams& params, const ClearanceModel& model,
                                       Progress* progress, const StripWidth& width_in) {
+  // The job passes the chord tolerance it derived; 0 (derive) means nothing here.
+  if (!(params.chord_tolerance > 0))
+    throw InvalidArgument("chord_tolerance must be > 0 mm here (the job derives it; got " +
+                          std::to_string(params.chord_tolerance) + ")");
   const StripWidth width =
       width_in ? width_in : ball_strip_width(params.ball_radius, params.scallop_height);
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};

@@ -279,13 +279,12 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     std::vector<ScallopFace> scallop_faces;
     for (std::size_t k : picked)
       scallop_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
-    // The strips are spaced for the cusp the budget leaves (the scallop
-    // height less the centres' error e = chord + posted rounding), and the
-    // guarantee adds e back, as for the isocurves (see the header).
+    // The strips are spaced for the whole scallop height (the engine does
+    // not split the budget yet: spaced for h - e it loses paths on a sphere
+    // cap), so the guarantee, which adds the centres' error e = chord +
+    // posted rounding to the measured cusp, can exceed h by e.
     const double e = budget.centre_error();
-    IsoParams cusp_params = params;
-    cusp_params.scallop_height = params.scallop_height - e;
-    ScallopPieces cut = constant_scallop_pieces(scallop_faces, cusp_params, model, progress);
+    ScallopPieces cut = constant_scallop_pieces(scallop_faces, params, model, progress);
     result.face_direction = cut.face_direction;
     result.metrics.sub_isocurves = cut.curves;
     result.metrics.unreachable_length = cut.unreachable_length;

@@ -223,8 +223,9 @@ struct IsoResult {
 //    path to the next path, and `guaranteed_scallop` the centres' error e
 //    (see "The guarantees") plus the cusp of that distance on the largest
 //    curvature across seen between them (measured at the samples, as the
-//    other patterns measure per patch; the strips are spaced for a cusp of
-//    scallop_height - e, with balls of radius r);
+//    other patterns measure per patch). The strips are spaced for a cusp
+//    of the whole scallop_height (the budget is not split yet), so the
+//    guarantee can exceed the scallop height by e.
 //  - `delta_max` is the largest spacing used.
 
 // delta from (r, h): the flat-ground stepover, 2 sqrt(2 r h - h^2); r finite
