@@ -234,7 +234,7 @@ void TrimDomain::build_quadtree(int node, const std::vector<int>& boxes, int dep
   QuadNode& n = quad_[static_cast<std::size_t>(node)];
   if (here.empty()) {
     const TopAbs_State st =
-        classifier_->Perform(gp_Pnt2d(0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1])));
+        classify_point(0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1]));
     n.state = st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
     return;
   }
@@ -321,9 +321,14 @@ int TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const 
   return cached({{u0, u1, v0, v1}, 0}, [&] {
     if (!curves_miss(lo, hi)) return 0;
     const TopAbs_State st =
-        classifier_->Perform(gp_Pnt2d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])));
+        classify_point(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]));
     return st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
   });
+}
+
+TopAbs_State TrimDomain::classify_point(double fu, double fv) const {
+  const std::lock_guard<std::mutex> guard(*classifier_lock_);
+  return classifier_->Perform(gp_Pnt2d(fu, fv));
 }
 
 TrimDomain::~TrimDomain() = default;
@@ -410,7 +415,7 @@ bool TrimDomain::contains(double u, double v) const {
   // On the boundary to within rounding: the classifier, at the exact face
   // parameters.
   return cached({{u, u, v, v}, 1}, [&] {
-           return classifier_->Perform(gp_Pnt2d(to_face(0, u), to_face(1, v))) != TopAbs_OUT ? 1 : 0;
+           return classify_point(to_face(0, u), to_face(1, v)) != TopAbs_OUT ? 1 : 0;
          }) > 0;
 }
 

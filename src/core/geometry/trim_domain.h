@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Geom_Surface.hxx>
+#include <TopAbs_State.hxx>
 #include <TopoDS_Face.hxx>
 
 #include "geometry/bernstein.h"
@@ -92,6 +93,11 @@ class TrimDomain {
   TopoDS_Face face_;
   Handle(Geom_Surface) surface_;  // the face's own surface (with its location)
   std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // built once, reused
+  // OpenCASCADE's classifier is not safe to run on two threads at once (two
+  // clearance queries classifying on one face crashed in Perform): every
+  // call goes through classify_point(), under this lock.
+  std::unique_ptr<std::mutex> classifier_lock_ = std::make_unique<std::mutex>();
+  TopAbs_State classify_point(double fu, double fv) const;
   const PatchGrid* grid_;
   std::vector<Box2> boundary_;          // boxes that contain the edges' p-curves
   // The p-curves as rational Bezier spans: homogeneous control points
