@@ -98,6 +98,16 @@ class IsoCAMOp(PathOp.ObjectOp):
         # is picked. Keep the user's Base: picked_faces() names the face.
         return False
 
+    def updateDepths(self, obj, ignoreErrors=False):
+        # FreeCAD 1.x reads every Base element here, before opExecute: a
+        # missing face would fail with "Shape index 999 out of bound 8".
+        # Name it first, as opExecute would.
+        try:
+            picked_faces(obj)
+        except IsoCAMError as exc:
+            self.fail(obj, str(exc))
+        return super().updateDepths(obj, ignoreErrors)
+
     def isToolSupported(self, obj, tool):
         requested = getattr(self, "_requested_tc", None)
         if requested is not None:
