@@ -314,6 +314,15 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
 
     # -- steps of opExecute -------------------------------------------------
 
+    def execute(self, obj):
+        # FreeCAD 1.1 takes CycleTime from a module function of Path.Op.Base,
+        # not from getCycleTimeEstimate() below: set it again afterwards (the
+        # same value on 0.20 and 1.0, which call the method).
+        result = super().execute(obj)
+        if obj.ToolController is not None:
+            obj.CycleTime = self.getCycleTimeEstimate(obj)
+        return result
+
     def getCycleTimeEstimate(self, obj):
         """FreeCAD's CycleTime: our estimate (MachineTime), as HH:MM:SS.
 
