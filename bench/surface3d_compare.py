@@ -220,8 +220,47 @@ def _freecad_runs(mode):
 # -- the report (mode report, plain python3) ---------------------------------
 
 
+def rule_machine_time(canon_path):
+    """Machine time (min) of a program from rs274's canonical moves, by the
+    bench's one rule for every program, whatever feeds it asks for: a feed
+    straight along Z at VERT_FEED, any other feed at HORIZ_FEED, a rapid at
+    RAPID_RATE; no acceleration. The first move is left out (its start, the
+    machine's position before the program, is unknown). Also returns the
+    feed lengths along Z alone and otherwise, and the rapid length (mm)."""
+    import re
+
+    call = re.compile(r"(STRAIGHT_TRAVERSE|STRAIGHT_FEED|ARC_FEED)\(([^)]*)\)")
+    pos = None
+    z_feed = xy_feed = rapid = 0.0
+    with open(canon_path) as f:
+        for line in f:
+            m = call.search(line)
+            if not m:
+                continue
+            if m.group(1) == "ARC_FEED":
+                raise RuntimeError("%s: arcs are not estimated by rule_machine_time" % canon_path)
+            new = [float(v) for v in m.group(2).split(",")[:3]]
+            if pos is not None:
+                d = math.dist(pos, new)
+                if m.group(1) == "STRAIGHT_TRAVERSE":
+                    rapid += d
+                elif abs(new[0] - pos[0]) < 1e-9 and abs(new[1] - pos[1]) < 1e-9:
+                    z_feed += d
+                else:
+                    xy_feed += d
+            pos = new
+    minutes = z_feed / VERT_FEED + xy_feed / HORIZ_FEED + rapid / RAPID_RATE
+    return minutes, z_feed, xy_feed, rapid
+
+
 def _simulate(case, meta, sim, rs274):
+    """The simulator's JSON summary of one posted program; kept beside it
+    (<name>.sim.json) and reused while newer than the program."""
     ngc = os.path.join(OUT, meta["ngc"])
+    kept = ngc[: -len(".ngc")] + ".sim.json"
+    if os.path.exists(kept) and os.path.getmtime(kept) > os.path.getmtime(ngc):
+        with open(kept) as f:
+            return json.load(f)
     table = os.path.join(OUT, "tool%d.tbl" % meta["tool_number"])
     with open(table, "w") as out:
         out.write("T%d P%d D%.4f Z+0.0000 ;\n" % (meta["tool_number"], meta["tool_number"], 2 * case.radius))
@@ -237,6 +276,7 @@ def _simulate(case, meta, sim, rs274):
         "--scallop", repr(case.scallop),
         "--rapid-rate", repr(RAPID_RATE),
         "--threads", "2",
+        "--canon-out", ngc[: -len(".ngc")] + ".canon",
     ]
     started = time.monotonic()
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -244,14 +284,21 @@ def _simulate(case, meta, sim, rs274):
         raise RuntimeError("%s: isocam_gcode_sim failed: %s" % (meta["ngc"], proc.stderr.strip()))
     print("%s: simulated in %.0f s" % (meta["ngc"], time.monotonic() - started))
     sys.stdout.flush()
+    with open(kept, "w") as out:
+        out.write(proc.stdout)
     return json.loads(proc.stdout)
 
 
 def _row(meta, sim):
     row = dict(meta)
+    minutes, z_feed, xy_feed, rapid = rule_machine_time(os.path.join(OUT, meta["ngc"][: -len(".ngc")] + ".canon"))
     row.update(
         {
-            "machine_time_min": sim["machine_time_min"],
+            "machine_time_min": minutes,
+            "z_feed_length": z_feed,
+            "xy_feed_length": xy_feed,
+            "rule_rapid_length": rapid,
+            "sim_machine_time_min": sim["machine_time_min"],
             "feed_time_min": sim["feed_time_min"],
             "cutting_length": sim["lengths"]["cutting"],
             "feed_length": sim["lengths"]["feed"],
@@ -304,18 +351,21 @@ def _table(rows, summaries, machine):
     lines = [
         "Measured by `./run bench` on %s. Each program is posted with FreeCAD's linuxcnc post and "
         "measured by tests/sim's isocam_gcode_sim (rs274's canonical moves, the ball swept over points "
-        "sampled on the faces): machine time at the program's own feeds (both tool controllers: XY "
-        "%g mm/min, Z %g) and %g mm/min rapids, no acceleration; cutting length: fed length without "
+        "sampled on the faces). Machine time: one rule for every program, from those canonical moves "
+        "(rule_machine_time): feeds straight along Z at %g mm/min, other feeds at %g, rapids at %g, "
+        "no acceleration (3D Surface's own program feeds its plunges at the XY feed; the "
+        "simulator's time at the programs' own feeds is in the JSON); cutting length: fed length without "
         "the entry plunges; material left: the most, where the ball can reach the picked faces "
         "(capped at 0.5 mm; beyond it a point counts as uncovered), within h: the part of the "
         "reachable area left within the scallop height h; overcut: the deepest cut below any face. "
         "Compute: the op's recompute, wall and CPU time (IsoCAM on the host's FreeCAD, 3D Surface on "
         "FreeCAD 1.0 with OpenCamLib in the trixie chroot; the same machine). 3D Surface: Planar, "
-        "Line at 0 degrees, single pass, the whole model in its bound box, the stepover as shown, "
-        "LinearDeflection and OptimizeLinearPaths at FreeCAD's defaults (GeometryTolerance / 4, on)."
-        % (machine, HORIZ_FEED, VERT_FEED, RAPID_RATE),
+        "Line at 0 degrees, single pass, the whole model in the stock's bound box, OptimizeLinearPaths "
+        "on (FreeCAD's default); stepover, sample interval and mesh deflection (LinearDeflection) as "
+        "shown."
+        % (machine, VERT_FEED, HORIZ_FEED, RAPID_RATE),
         "",
-        "| model | operation | stepover / sample interval (mm) | compute wall / CPU (s) | machine time (min) "
+        "| model | operation | stepover / sample interval / mesh deflection (mm) | compute wall / CPU (s) | machine time (min) "
         "| cutting (mm) | rapid (mm) | moves | material left (mm) | within h | overcut (mm) | rapid overcut (mm) |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -323,8 +373,10 @@ def _table(rows, summaries, machine):
         if r["op"].startswith("IsoCAM"):
             step = "adaptive (h %g)" % r["scallop_height"]
         else:
-            step = "%.3f (%g %%) / %g" % (r["stepover_mm"], r["stepover_percent"], r["sample_interval"])
-        within = "-" if r["within_scallop_fraction"] is None else "%.1f %%" % (100 * r["within_scallop_fraction"])
+            step = "%.3f (%g %%) / %g / %g" % (
+                r["stepover_mm"], r["stepover_percent"], r["sample_interval"], r["linear_deflection"]
+            )
+        within = "-" if r["within_scallop_fraction"] is None else "%.2f %%" % (100 * r["within_scallop_fraction"])
         left = "%.4f" % r["measured_left"]
         if r["uncovered_samples"]:
             left = ">= 0.5 (%d points)" % r["uncovered_samples"]
@@ -379,7 +431,7 @@ def _report():
     sim = os.environ.get("ISOCAM_SIM") or os.path.join(ROOT, "build", "tests", "sim", "isocam_gcode_sim")
     rs274 = os.environ.get("ISOCAM_RS274", "rs274")
     machine = os.environ.get("ISOCAM_S3D_MACHINE") or "this project's machine (%d cores)" % os.cpu_count()
-    rows, summaries = [], []
+    rows, summaries, missing = [], [], []
     for case in CASES:
         metas = []
         for name in ["%s-isocam" % case.key] + [
@@ -387,20 +439,30 @@ def _report():
         ]:
             path = os.path.join(OUT, name + ".json")
             if not os.path.exists(path):
-                raise RuntimeError("%s is missing: run the isocam and surface steps first" % path)
+                # A run that failed or was stopped: reported as missing.
+                missing.append(name)
+                continue
             with open(path) as f:
                 metas.append(json.load(f))
         case_rows = [_row(m, _simulate(case, m, sim, rs274)) for m in metas]
         rows += case_rows
-        summaries.append(_summary(case, case_rows[0], case_rows[1:]))
+        iso = [r for r in case_rows if r["op"].startswith("IsoCAM")]
+        surfaces = [r for r in case_rows if not r["op"].startswith("IsoCAM")]
+        if iso and surfaces:
+            summaries.append(_summary(case, iso[0], surfaces))
+    if not rows:
+        raise RuntimeError("no posted program in %s: run the isocam and surface steps first" % OUT)
     results = {
         "rates": {"horiz_feed": HORIZ_FEED, "vert_feed": VERT_FEED, "rapid": RAPID_RATE},
         "rows": rows,
         "same_measured_scallop": summaries,
+        "missing": missing,
     }
     with open(os.path.join(HERE, "surface3d_results.json"), "w") as out:
         json.dump(results, out, indent=1)
     md = _table(rows, summaries, machine)
+    if missing:
+        md += "\nNot measured in this run (failed or stopped): %s.\n" % ", ".join(missing)
     with open(os.path.join(HERE, "surface3d_results.md"), "w") as out:
         out.write(md)
     _splice_readme(md)
