@@ -336,6 +336,8 @@ def _summary(case, iso, surfaces):
         )
     else:
         finest = min(surfaces, key=lambda s: s["stepover_percent"])
+        if finest["uncovered_samples"]:
+            out["surface_uncovered_samples"] = finest["uncovered_samples"]
         out.update(
             {
                 "surface_stepover_percent": finest["stepover_percent"],
@@ -405,10 +407,11 @@ def _table(rows, summaries, machine):
         else:
             lines.append(
                 "- %s: IsoCAM %.1f min (left %.4f mm); no 3D Surface run reached it: the finest, %g %%, "
-                "takes %.1f min and leaves %.4f mm."
+                "takes %.1f min and leaves %s mm."
                 % (
                     s["model"], s["isocam_machine_time_min"], s["isocam_left"], s["surface_stepover_percent"],
-                    s["surface_machine_time_min"], s["surface_left"],
+                    s["surface_machine_time_min"],
+                    ">= 0.5" if s.get("surface_uncovered_samples") else "%.4f" % s["surface_left"],
                 )
             )
     return "\n".join(lines) + "\n"
