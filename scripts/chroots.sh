@@ -112,11 +112,26 @@ chroot_prepare() {
   echo "isocam: debootstrap $suite took $((SECONDS - t0)) s"
 }
 
-# The whole suite in one chroot: packages by the project's own install step,
-# build into build-<suite>/ of the clone, ctest. The mounts are undone on
-# every way out.
-chroot_test() {
+# Sessions in one chroot run one at a time: each binds the clone at the
+# same place, and chroot_unmount undoes every mount under the chroot.
+# ISOCAM_CHROOT_LOCK names the lock file (default: <suite>.lock beside the
+# chroots); the lock is held from before the mounts to after the unmount.
+chroot_locked() {
+  local suite=$1 lock; shift
+  lock=${ISOCAM_CHROOT_LOCK:-$CHROOT_CACHE/$suite.lock}
+  mkdir -p "$(dirname "$lock")"
+  (
+    flock 9
+    "$@"
+  ) 9>"$lock"
+}
+
+# Run a command inside the chroot of a suite, with the project's packages
+# installed there by its own install step (`./run deps`). The mounts are
+# undone on every way out.
+chroot_run() {
   local suite=$1 dir=$CHROOT_CACHE/$1 status=0
+  shift
   chroot_prepare "$suite" || return 1
   cp -L /etc/resolv.conf "$dir/etc/resolv.conf" 2>/dev/null || true
   trap 'chroot_unmount "'"$dir"'"' EXIT
@@ -129,12 +144,17 @@ chroot_test() {
     date -u +%FT%TZ > "$dir/$CHROOT_STAMP"
   fi
   if [ $status -eq 0 ]; then
-    # The suite of that FreeCAD alone (the sanitizer build runs once, on the
-    # host: it does not depend on FreeCAD).
-    in_chroot "$dir" ISOCAM_BUILD_DIR="$CHROOT_SRC/build-$suite" \
-      "$CHROOT_SRC/run" test-on host || status=$?
+    in_chroot "$dir" "$@" || status=$?
   fi
   chroot_unmount "$dir"
   trap - EXIT INT TERM
   return $status
+}
+
+# The whole suite in one chroot: build into build-<suite>/ of the clone,
+# ctest (the sanitizer build runs once, on the host: it does not depend on
+# FreeCAD).
+chroot_test() {
+  chroot_locked "$1" chroot_run "$1" ISOCAM_BUILD_DIR="$CHROOT_SRC/build-$1" \
+    "$CHROOT_SRC/run" test-on host
 }
