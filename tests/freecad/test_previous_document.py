@@ -19,7 +19,7 @@ import unittest
 import FreeCAD
 
 import fc_test_support as support
-from freecad_ext import adaptive_isocurve, op_base, spiral_pocket, zlevel_roughing
+from freecad_ext import adaptive_isocurve, compat, op_base, spiral_pocket, zlevel_roughing
 
 NAME = "previous_ops"
 PROXIES = {
@@ -99,6 +99,11 @@ class PreviousDocumentTest(unittest.TestCase):
             self.record["ops"]["SpiralPocket"]["properties"]["Loops"][1], "Result"
         )
 
+    @unittest.skipIf(
+        compat.version_tuple() >= (0, 21),
+        "FreeCAD 0.21+ restores no Job or tool controller of a 0.20 file (their "
+        "proxies moved from PathScripts to Path.*); the ops' own data is checked above",
+    )
     def test_the_ops_recompute(self):
         for op, _ in self.ops():
             op.touch()
