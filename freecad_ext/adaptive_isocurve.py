@@ -26,15 +26,15 @@ marked to be recomputed (freecad_ext/gui/progress.py).
 """
 
 import math
-import threading
 import time
 
-import FreeCAD
 import Path
 
 from freecad_ext import compat, op_base
-from freecad_ext.compat import PathOp
+from freecad_ext.compat import QT_TRANSLATE_NOOP, PathOp, translate
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
+
+log = compat.logger(__name__)
 
 __title__ = "IsoCAM Adaptive Isocurve operation"
 
@@ -48,208 +48,179 @@ DIRECTIONS = ("Auto", "U", "V")
 # or non-isoparametric passes placed by the strip width (Lee 1998).
 PATTERNS = ("Adaptive", "Uniform", "ParallelPlanes", "ConstantScallop")
 SCALLOP_BOUNDS = ("Curvature", "Flat")
-_ENUMERATIONS = {
-    "Direction": DIRECTIONS,
-    "Pattern": PATTERNS,
-    "ScallopBound": SCALLOP_BOUNDS,
-}
-
-# (type, name, group, tooltip, default) of the user's parameters.
-_INPUTS = (
-    (
-        "App::PropertyLength",
-        "ScallopHeight",
-        "Adaptive Isocurve",
-        "Largest scallop height left between adjacent passes; sets the "
-        "stepover. Must be smaller than the ball radius.",
-        0.01,
-    ),
-    (
-        "App::PropertyEnumeration",
-        "Pattern",
-        "Adaptive Isocurve",
-        "Adaptive: sub-isocurves only where needed (Elber & Cohen, Algorithm 1). "
-        "Uniform: complete isocurves equally spaced in parameter. ParallelPlanes: "
-        "planes of constant X or Y. All three keep the same scallop guarantee "
-        "(the last two are the yardsticks). ConstantScallop: passes that are not "
-        "isocurves, each placed from the one before by the width of the strip it "
-        "machines (Lee 1998); its certificate is measured between the passes.",
-        "Adaptive",
-    ),
-    (
-        "App::PropertyEnumeration",
-        "ScallopBound",
-        "Adaptive Isocurve",
-        "Curvature: the stepover follows the curvature across the feed, so the "
-        "scallop stays under ScallopHeight on convex ground too and widens "
-        "on concave ground. Flat: the paper's flat-ground stepover, never "
-        "wider, narrowed as Curvature on convex ground. Both keep "
-        "GuaranteedScallop <= ScallopHeight.",
-        "Curvature",
-    ),
-    (
-        "App::PropertyEnumeration",
-        "Direction",
-        "Adaptive Isocurve",
-        "Isocurve direction: U (u constant), V (v constant), or Auto "
-        "(per face, the one with the shorter planned path).",
-        "Auto",
-    ),
-    (
-        "App::PropertyBool",
-        "ProtectModel",
-        "Adaptive Isocurve",
-        "Keep the ball clear of every face of the model, not only the picked "
-        "ones (each face inside its edges). Where another face keeps the ball "
-        "from a picked one, material is left (UnreachableLength says how "
-        "much). Off: only the picked faces are protected.",
-        True,
-    ),
-    (
-        "App::PropertyLength",
-        "OvercutTolerance",
-        "Adaptive Isocurve",
-        "Deepest cut below the design allowed anywhere (chords on convex "
-        "ground, clearance check, rounding of the posted coordinates); "
-        "GuaranteedOvercut stays within it.",
-        0.005,
-    ),
-    (
-        "App::PropertyLength",
-        "ChordTolerance",
-        "Adaptive Isocurve",
-        "Advanced: largest distance between a pass and its linear G1 segments. "
-        "0 (default): derived from ScallopHeight and OvercutTolerance; "
-        "otherwise it must fit both, and the guarantees include it.",
-        0.0,
-    ),
-    (
-        "App::PropertyInteger",
-        "PostPrecision",
-        "Adaptive Isocurve",
-        "Decimals of the coordinates the post-processor writes (linuxcnc: "
-        "--precision, default 3); the guarantees include their rounding.",
-        3,
-    ),
-    (
-        "App::PropertyLength",
-        "AirClearance",
-        "Adaptive Isocurve",
-        "Gap kept between the ball and the model by rapid moves between "
-        "passes, and the height above an entry point from which it is fed.",
-        1.0,
-    ),
-    (
-        "App::PropertyFloat",
-        "RapidRate",
-        "Adaptive Isocurve",
-        "Rapid rate of the machine in mm/min, for MachineTime and CycleTime "
-        "(and the choice between a feed link and a hop).",
-        5000.0,
-    ),
-)
 
 # (type, property name, core metrics attribute or None, tooltip) of the
-# read-only outputs written after every run.
+# read-only outputs written after every run (op_base.OUTPUT_GROUP).
 _OUTPUTS = (
     (
         "App::PropertyLength",
         "CuttingLength",
         "cutting_length",
-        "Length of the feed moves",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of the feed moves",
+        ),
     ),
-    ("App::PropertyLength", "RapidLength", "rapid_length", "Length of the rapid moves"),
-    ("App::PropertyLength", "PlungeLength", "plunge_length", "Length of the plunges"),
+    (
+        "App::PropertyLength",
+        "RapidLength",
+        "rapid_length",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of the rapid moves",
+        ),
+    ),
+    (
+        "App::PropertyLength",
+        "PlungeLength",
+        "plunge_length",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of the plunges",
+        ),
+    ),
     (
         "App::PropertyInteger",
         "SubIsocurves",
         "sub_isocurves",
-        "Number of (sub-)isocurves cut",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of (sub-)isocurves cut",
+        ),
     ),
     (
         "App::PropertyInteger",
         "Retracts",
         "retracts",
-        "Number of retracts to SafeHeight",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of retracts to SafeHeight",
+        ),
     ),
     (
         "App::PropertyLength",
         "IsoDistanceTolerance",
         "delta",
-        "Stepover that leaves ScallopHeight on flat ground (the iso-distance bound)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Stepover that leaves ScallopHeight on flat ground (the "
+            "iso-distance bound)",
+        ),
     ),
     (
         "App::PropertyLength",
         "IsoDistanceToleranceMax",
         "delta_max",
-        "Largest iso-distance tolerance used on any patch (the curvature bound "
-        "allows more than the flat one on concave ground, less on convex)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Largest iso-distance tolerance used on any patch (the curvature "
+            "bound allows more than the flat one on concave ground, less on "
+            "convex)",
+        ),
     ),
     (
         "App::PropertyLength",
         "MaxIsoDistance",
         "max_iso_distance",
-        "Largest iso-distance left between adjacent isocurves",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Largest iso-distance left between adjacent isocurves",
+        ),
     ),
     (
         "App::PropertyLength",
         "GuaranteedScallop",
         "guaranteed_scallop",
-        "The most material left above the design where the ball reaches, "
-        "everything included: the cusp of the largest iso-distance of every "
-        "pair of adjacent curves on the largest curvature across the feed "
-        "there, for centres off the offset by the chords and the rounding of "
-        "the posted coordinates, plus that (<= ScallopHeight)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "The most material left above the design where the ball reaches, "
+            "everything included: the cusp of the largest iso-distance of "
+            "every pair of adjacent curves on the largest curvature across "
+            "the feed there, for centres off the offset by the chords and the "
+            "rounding of the posted coordinates, plus that (<= ScallopHeight)",
+        ),
     ),
     (
         "App::PropertyLength",
         "GuaranteedOvercut",
         "guaranteed_overcut",
-        "The deepest cut below the design: chord tolerance + clearance check "
-        "tolerance + rounding of the posted coordinates (<= OvercutTolerance)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "The deepest cut below the design: chord tolerance + clearance "
+            "check tolerance + rounding of the posted coordinates (<= "
+            "OvercutTolerance)",
+        ),
     ),
     (
         "App::PropertyLength",
         "ChordToleranceUsed",
         "chord_tolerance",
-        "The chord tolerance used (derived from the budgets, or ChordTolerance)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "The chord tolerance used (derived from the budgets, or "
+            "ChordTolerance)",
+        ),
     ),
     (
         "App::PropertyFloat",
         "MachineTime",
         "machine_time",
-        "Estimated machine time (s) of this op's commands at the tool "
-        "controller's feeds and RapidRate, no acceleration (also CycleTime)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Estimated machine time (s) of this op's commands at the tool "
+            "controller's feeds and RapidRate, no acceleration (also "
+            "CycleTime)",
+        ),
     ),
     (
         "App::PropertyFloat",
         "CuttingTime",
         "cutting_time",
-        "Estimated time (s) of the feed moves (passes and the links along the surface)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Estimated time (s) of the feed moves (passes and the links along "
+            "the surface)",
+        ),
     ),
     (
         "App::PropertyLength",
         "LowerBoundLength",
         "lower_bound_length",
-        "L*: integral over the picked faces of dA / w_max, a lower bound on "
-        "the cutting length of any path with this scallop",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "L*: integral over the picked faces of dA / w_max, a lower bound "
+            "on the cutting length of any path with this scallop",
+        ),
     ),
     (
         "App::PropertyFloat",
         "LengthRatio",
         "length_ratio",
-        "CuttingLength / LowerBoundLength (1 would be optimal)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "CuttingLength / LowerBoundLength (1 would be optimal)",
+        ),
     ),
     (
         "App::PropertyLength",
         "UnreachableLength",
         "unreachable_length",
-        "Length of tool-centre path left out because the ball would come "
-        "closer than its radius to the model there (material is left)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of tool-centre path left out because the ball would come "
+            "closer than its radius to the model there (material is left)",
+        ),
     ),
-    ("App::PropertyString", "DirectionUsed", None, "Isocurve direction used, per face"),
+    (
+        "App::PropertyString",
+        "DirectionUsed",
+        None,
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Isocurve direction used, per face",
+        ),
+    ),
 )
-_OUTPUT_GROUP = "Certificate"
 
 
 # Core argument names -> what the FreeCAD user sets.
@@ -275,6 +246,12 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
 
     OUTPUTS = _OUTPUTS
     ARGUMENT_SOURCES = _ARGUMENT_SOURCES
+    # Feeds by the core's move kinds, not FreeCAD's setFeedRate. The two
+    # agree on every move that moves; setFeedRate takes a G1 whose end
+    # coincides with its start for vertical (VertFeed), and the core's
+    # finishing paths have such zero-length G1s (10172 of 65949 on MAT's
+    # Face1 at 0.05 mm scallop), which would be posted at the plunge feed.
+    FEEDS_BY_SET_FEED_RATE = False
 
     # -- PathOp hooks -------------------------------------------------------
 
@@ -287,8 +264,151 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
             | PathOp.FeatureCoolant
         )
 
-    def add_properties(self, obj):
-        _add_properties(obj, set_defaults=True)
+    # -- the op's properties (op_base reads them) ------------------------------
+
+    ENUMERATIONS = {
+        "Direction": (
+            QT_TRANSLATE_NOOP("IsoCAM", "Auto"),
+            QT_TRANSLATE_NOOP("IsoCAM", "U"),
+            QT_TRANSLATE_NOOP("IsoCAM", "V"),
+        ),
+        "Pattern": tuple(QT_TRANSLATE_NOOP("IsoCAM", p) for p in PATTERNS),
+        "ScallopBound": tuple(QT_TRANSLATE_NOOP("IsoCAM", b) for b in SCALLOP_BOUNDS),
+    }
+
+    def opPropertyDefinitions(self):
+        return [
+            (
+                "App::PropertyLength",
+                "ScallopHeight",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Largest scallop height left between adjacent passes; sets the "
+                    "stepover. Must be smaller than the ball radius.",
+                ),
+            ),
+            (
+                "App::PropertyEnumeration",
+                "Pattern",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Adaptive: sub-isocurves only where needed (Elber & Cohen, "
+                    "Algorithm 1). Uniform: complete isocurves equally spaced in "
+                    "parameter. ParallelPlanes: planes of constant X or Y. All three "
+                    "keep the same scallop guarantee (the last two are the "
+                    "yardsticks). ConstantScallop: passes that are not isocurves, "
+                    "each placed from the one before by the width of the strip it "
+                    "machines (Lee 1998); its certificate is measured between the "
+                    "passes.",
+                ),
+            ),
+            (
+                "App::PropertyEnumeration",
+                "ScallopBound",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Curvature: the stepover follows the curvature across the feed, "
+                    "so the scallop stays under ScallopHeight on convex ground too "
+                    "and widens on concave ground. Flat: the paper's flat-ground "
+                    "stepover, never wider, narrowed as Curvature on convex ground. "
+                    "Both keep GuaranteedScallop <= ScallopHeight.",
+                ),
+            ),
+            (
+                "App::PropertyEnumeration",
+                "Direction",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Isocurve direction: U (u constant), V (v constant), or Auto (per "
+                    "face, the one with the shorter planned path).",
+                ),
+            ),
+            (
+                "App::PropertyBool",
+                "ProtectModel",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Keep the ball clear of every face of the model, not only the "
+                    "picked ones (each face inside its edges). Where another face "
+                    "keeps the ball from a picked one, material is left "
+                    "(UnreachableLength says how much). Off: only the picked faces "
+                    "are protected.",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "OvercutTolerance",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Deepest cut below the design allowed anywhere (chords on convex "
+                    "ground, clearance check, rounding of the posted coordinates); "
+                    "GuaranteedOvercut stays within it.",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "ChordTolerance",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Advanced: largest distance between a pass and its linear G1 "
+                    "segments. 0 (default): derived from ScallopHeight and "
+                    "OvercutTolerance; otherwise it must fit both, and the guarantees "
+                    "include it.",
+                ),
+            ),
+            (
+                "App::PropertyInteger",
+                "PostPrecision",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Decimals of the coordinates the post-processor writes (linuxcnc: "
+                    "--precision, default 3); the guarantees include their rounding.",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "AirClearance",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Gap kept between the ball and the model by rapid moves between "
+                    "passes, and the height above an entry point from which it is "
+                    "fed.",
+                ),
+            ),
+            (
+                "App::PropertyFloat",
+                "RapidRate",
+                "Adaptive Isocurve",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Rapid rate of the machine in mm/min, for MachineTime and "
+                    "CycleTime (and the choice between a feed link and a hop).",
+                ),
+            ),
+        ]
+
+    def opPropertyDefaults(self, obj, job):
+        return {
+            "ScallopHeight": 0.01,
+            "Pattern": "Adaptive",
+            "ScallopBound": "Curvature",
+            "Direction": "Auto",
+            "ProtectModel": True,
+            "OvercutTolerance": 0.005,
+            "ChordTolerance": 0.0,
+            "PostPrecision": 3,
+            "AirClearance": 1.0,
+            "RapidRate": 5000.0,
+        }
 
     def accepts_tool(self, tool):
         return compat.is_ball_end(tool)
@@ -310,7 +430,7 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
         _warn_guarantee(obj, metrics)
         for res in results:
             for warning in res.warnings:
-                op_base.PathLog.warning("%s: %s" % (obj.Label, warning))
+                log.warning("%s: %s" % (obj.Label, warning))
 
     # -- steps of opExecute -------------------------------------------------
 
@@ -348,63 +468,27 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
             results.append(self._run_core(core, brep, faces, params, base))
         results = [r for r in results if len(r.kind) > 0]
         if not results:
-            raise IsoCAMError("the core returned no moves for the picked faces")
+            raise IsoCAMError(
+                translate("IsoCAM", "the core returned no moves for the picked faces")
+            )
         return results
 
     def _run_core(self, core, brep, faces, params, base):
-        """Call the core in a worker thread (it releases the GIL) and wait.
+        """The core on one model object's faces (op_base.run_core: worker
+        thread, progress and cancel); its geometry errors name the model."""
 
-        The Progress object is kept in ``self.active_progress`` while the
-        core runs, so a task panel can poll its fraction or cancel() it.
-        """
-        progress = core.Progress()
-        outcome = {}
+        def call(progress):
+            return core.adaptive_isocurve(brep, faces, params, progress)
 
-        def work():
-            try:
-                outcome["result"] = core.adaptive_isocurve(
-                    brep, faces, params, progress
-                )
-            except BaseException as exc:  # handed to the calling thread
-                outcome["error"] = exc
-
-        worker = threading.Thread(target=work, name="isocam-adaptive-isocurve")
-        self.active_progress = progress
         try:
-            worker.start()
-            _wait(worker, progress)
-        finally:
-            self.active_progress = None
-        if "error" in outcome:
-            exc = outcome["error"]
-            if isinstance(exc, RuntimeError) and not isinstance(
-                exc, core.CancelledError
-            ):
-                raise RuntimeError("%s (model %s)" % (exc, base.Label)) from exc
-            raise exc
-        return outcome["result"]
-
+            return self.run_core(core, call, translate("IsoCAM", "Adaptive isocurve"))
+        except RuntimeError as exc:
+            if isinstance(exc, core.CancelledError):
+                raise
+            raise RuntimeError("%s (model %s)" % (exc, base.Label)) from exc
 
 
 # -- helpers (module level: small, no FreeCAD object state) -----------------
-
-
-def _add_properties(obj, set_defaults):
-    """Add the op's own properties that `obj` does not have yet."""
-    for prop_type, name, group, tip, default in _INPUTS:
-        if not hasattr(obj, name):
-            obj.addProperty(prop_type, name, group, tip)
-            if name in _ENUMERATIONS:
-                setattr(obj, name, list(_ENUMERATIONS[name]))
-            if set_defaults:
-                setattr(obj, name, default)
-    for prop_type, name, _attr, tip in _OUTPUTS:
-        if not hasattr(obj, name):
-            obj.addProperty(prop_type, name, _OUTPUT_GROUP, tip)
-        obj.setEditorMode(name, 1)  # read-only in the property editor
-        if hasattr(obj, "setPropertyStatus"):  # not on a SetupSheet prototype
-            # Output: writing it during execute does not touch the op again.
-            obj.setPropertyStatus(name, ["ReadOnly", "Output"])
 
 
 def _check_ball_end(obj):
@@ -412,9 +496,12 @@ def _check_ball_end(obj):
     tool = tc.Tool
     if not compat.is_ball_end(tool):
         raise IsoCAMError(
-            "tool '%s' of tool controller '%s' is not a ball end (its shape is "
-            "'%s'); Adaptive Isocurve needs a ball-end tool (ToolBit shape "
-            "ballend.fcstd)"
+            translate(
+                "IsoCAM",
+                "tool '%s' of tool controller '%s' is not a ball end (its shape is "
+                "'%s'); Adaptive Isocurve needs a ball-end tool (ToolBit shape "
+                "ballend.fcstd)",
+            )
             % (compat.tool_label(tool), tc.Label, compat.tool_shape(tool) or "unknown")
         )
 
@@ -424,7 +511,7 @@ def _picked_faces(obj):
     picked = picked_faces(obj)
     if not picked:
         raise IsoCAMError(
-            "no faces picked: set Base to one or more faces of the Job's model"
+            translate("IsoCAM", "no faces picked: set Base to one or more faces of the Job's model")
         )
     return picked
 
@@ -485,7 +572,8 @@ def _iso_params(obj, core, ball_radius):
     params.chord_tolerance = obj.ChordTolerance.Value
     if not 0 <= obj.PostPrecision <= 9:
         raise IsoCAMError(
-            "PostPrecision must be 0..9 decimals (got %d)" % obj.PostPrecision
+            translate("IsoCAM", "PostPrecision must be 0..9 decimals (got %d)")
+            % obj.PostPrecision
         )
     params.posted_resolution = 10.0 ** -obj.PostPrecision
     params.air_clearance = obj.AirClearance.Value
@@ -498,20 +586,6 @@ def _iso_params(obj, core, ball_radius):
     params.safe_z = obj.SafeHeight.Value
     params.max_moves = op_base.max_moves(obj)
     return params
-
-
-def _wait(worker, progress):
-    """Block until the worker ends.
-
-    In the GUI, freecad_ext.gui.progress keeps the window painted, shows the
-    progress and lets the user cancel (see there for what a cancel does).
-    """
-    if not FreeCAD.GuiUp:
-        worker.join()
-        return
-    from freecad_ext.gui import progress as gui_progress  # GUI only
-
-    gui_progress.wait(worker, progress, "Adaptive isocurve")
 
 
 def _combined_metrics(results):
@@ -552,20 +626,21 @@ def _directions_used(results):
 
 
 def _write_outputs(obj, metrics, directions):
-    for _type, name, attr, _tip in _OUTPUTS:
-        if attr is not None:
-            setattr(obj, name, metrics[attr])
+    op_base.write_outputs(obj, _OUTPUTS, metrics)
     obj.DirectionUsed = directions
 
 
 def _print_certificate(obj, m, seconds):
-    FreeCAD.Console.PrintMessage(
-        "IsoCAM %s (%s, %s bound): %d sub-isocurves (direction %s), "
-        "cutting %.1f mm = %.2f x L* (%.1f mm), rapid %.1f mm, plunge %.1f mm, "
-        "%d retracts; iso-distance tolerance %.4f..%.4f mm, max iso-distance "
-        "%.4f mm -> guaranteed scallop %.5f mm (requested %.5f mm), "
-        "guaranteed overcut %.5f mm (allowed %.5f mm, chords %.5f mm); "
-        "machine time %.1f min (cutting %.1f min); unreachable %.1f mm; %.2f s\n"
+    log.info(
+        translate(
+            "IsoCAM",
+            "IsoCAM %s (%s, %s bound): %d sub-isocurves (direction %s), "
+            "cutting %.1f mm = %.2f x L* (%.1f mm), rapid %.1f mm, plunge %.1f mm, "
+            "%d retracts; iso-distance tolerance %.4f..%.4f mm, max iso-distance "
+            "%.4f mm -> guaranteed scallop %.5f mm (requested %.5f mm), "
+            "guaranteed overcut %.5f mm (allowed %.5f mm, chords %.5f mm); "
+            "machine time %.1f min (cutting %.1f min); unreachable %.1f mm; %.2f s",
+        )
         % (
             obj.Label,
             obj.Pattern,
@@ -598,9 +673,12 @@ def _warn_guarantee(obj, m):
     """A warning in the report when the certificate promises less than asked."""
     requested = obj.ScallopHeight.Value
     if m["guaranteed_scallop"] > requested * (1 + 1e-6):
-        op_base.PathLog.warning(
-            "%s: the guaranteed scallop height %.5f mm is above the requested %.5f mm "
-            "(ScallopBound = %s; the flat bound does not hold on convex ground)"
+        log.warning(
+            translate(
+                "IsoCAM",
+                "%s: the guaranteed scallop height %.5f mm is above the requested %.5f mm "
+                "(ScallopBound = %s; the flat bound does not hold on convex ground)",
+            )
             % (obj.Label, m["guaranteed_scallop"], requested, obj.ScallopBound)
         )
 
@@ -627,8 +705,16 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     tool controller, or the previous op's, is used.
     """
     return op_base.create_op(
-        ObjectAdaptiveIsocurve, name, obj, parentJob, toolController, "the Job has no ball-end tool controller; add one (ToolBit shape "
-        "ballend.fcstd) or pass toolController="
+        ObjectAdaptiveIsocurve,
+        name,
+        obj,
+        parentJob,
+        toolController,
+        translate(
+            "IsoCAM",
+            "the Job has no ball-end tool controller; add one (ToolBit shape "
+            "ballend.fcstd) or pass toolController=",
+        ),
     )
 
 

@@ -12,6 +12,7 @@ PathUtils           PathScripts.PathUtils          PathScripts.PathUtils
 PathSetupSheet      PathScripts.PathSetupSheet     Path.Base.SetupSheet
 PathJob             PathScripts.PathJob            Path.Main.Job
 PathToolController  PathScripts.PathToolController Path.Tool.Controller
+PathFeedRate        PathFeedRate                   Path.Base.FeedRate
 tool_bit_module()   PathScripts.PathToolBit        Path.Tool.Bit (1.1: old documents only)
 make_tool_bit()     PathToolBit.Factory            1.1: Path.Tool.toolbit.ToolBit
 post_list()         None (the caller's 0.20 list)  Path.Post.Processor's factory
@@ -73,6 +74,7 @@ _MODULES = {
     "PathSetupSheet": ("Path.Base.SetupSheet", "PathScripts.PathSetupSheet"),
     "PathJob": ("Path.Main.Job", "PathScripts.PathJob"),
     "PathToolController": ("Path.Tool.Controller", "PathScripts.PathToolController"),
+    "PathFeedRate": ("Path.Base.FeedRate", "PathFeedRate"),
 }
 
 
@@ -210,6 +212,86 @@ def active_document(doc):
         if previous is not None and previous is not doc:
             if previous.Name in FreeCAD.listDocuments():
                 FreeCAD.setActiveDocument(previous.Name)
+
+
+# -- translation and the log ---------------------------------------------------
+
+# Context of IsoCAM's user messages (FreeCAD's ops use e.g. "CAM_Surface").
+TRANSLATION_CONTEXT = "IsoCAM"
+
+
+def QT_TRANSLATE_NOOP(context, text):
+    """Mark `text` for translation in `context`; returns it unchanged.
+
+    What Qt's QT_TRANSLATE_NOOP does, in plain Python so that it needs no Qt
+    (headless, and the faked layouts of the tests). FreeCAD's ops wrap every
+    property tip in QT_TRANSLATE_NOOP("App::Property", ...): lupdate finds the
+    call by its name, and the property editor translates the tip in that
+    context when it shows it.
+    """
+    return text
+
+
+def translate(context, text):
+    """`text` translated in `context` by FreeCAD's translators
+    (``FreeCAD.Qt.translate``, the same on 0.20, 1.0 and 1.1); `text` itself
+    where this FreeCAD has none."""
+    function = getattr(getattr(FreeCAD, "Qt", None), "translate", None)
+    return function(context, text) if function is not None else text
+
+
+class ModuleLogger:
+    """FreeCAD's Path log (Path.Log; PathScripts.PathLog on 0.20) under one
+    module's name, as FreeCAD's ops log: "module.LEVEL: message" in the
+    report view, each module's level its own (``Path.Log.setLevel(
+    Path.Log.Level.DEBUG, "adaptive_isocurve")`` shows that module's debug
+    lines). The level starts at INFO, as FreeCAD's ops set theirs.
+
+    Path.Log is imported on the first message, so a module can make its
+    logger when it is imported at no cost (the GUI's start-up).
+    """
+
+    def __init__(self, module, level="INFO"):
+        self.module = module.rsplit(".", 1)[-1]  # as Path.Log.thisModule()
+        self._initial_level = level
+        self._log = None
+
+    def _path_log(self):
+        if self._log is None:
+            log = globals().get("PathLog") or __getattr__("PathLog")
+            log.setLevel(getattr(log.Level, self._initial_level), self.module)
+            self._log = log
+        return self._log
+
+    def _emit(self, level, message):
+        log = self._path_log()
+        message = str(message)
+        loggers = getattr(log, "getModuleLogger", None)
+        if loggers is not None:  # Path.Log with a logger object per module
+            return getattr(loggers(self.module), level.lower())("{}", message)
+        # 0.20 - 1.1: the module functions take the module from the caller's
+        # file name; _log is what they call with it.
+        return log._log(getattr(log.Level, level), (self.module, 0, ""), message)
+
+    def debug(self, message):
+        return self._emit("DEBUG", message)
+
+    def info(self, message):
+        return self._emit("INFO", message)
+
+    def notice(self, message):
+        return self._emit("NOTICE", message)
+
+    def warning(self, message):
+        return self._emit("WARNING", message)
+
+    def error(self, message):
+        return self._emit("ERROR", message)
+
+
+def logger(module):
+    """The log of `module` (pass ``__name__``); one per module."""
+    return ModuleLogger(module)
 
 
 # -- names FreeCAD 1.0 changed ------------------------------------------------

@@ -1,5 +1,21 @@
-"""What every IsoCAM Path operation shares: the error type, reading the picked
-faces, and taking the tool controller that Create() was given.
+"""What every IsoCAM Path operation shares: the op base class, which adds
+the op's properties from its definitions (FreeCAD's convention), runs the
+core with progress and cancel, maps its errors to the user's inputs and turns
+its flat move arrays into ``Path.Command``s.
+
+A subclass gives its properties as data, as FreeCAD's own ops (Surface,
+Waterline, Slot) do, and the base reads them:
+
+* ``opPropertyDefinitions()``: (type, name, group, tip) rows, every tip in
+  ``QT_TRANSLATE_NOOP("App::Property", ...)``;
+* ``ENUMERATIONS``: property -> its values; ``propertyEnumerations(dataType)``
+  gives them as FreeCAD's ops do ("data", "raw", "translated");
+* ``opPropertyDefaults(obj, job)``: property -> default of a new op (and of a
+  property an older document lacks);
+* ``OUTPUTS``: (type, name, core metrics attribute, tip) rows of the read-only
+  outputs, all in :data:`OUTPUT_GROUP` (the task panel lists them);
+* ``ARGUMENT_SOURCES``: (core argument, FreeCAD input) pairs, to say which
+  input an error of the core is about.
 
 FreeCAD offers (and, headless, picks) tool controllers through
 ``isToolSupported``. While Create() is given an explicit controller, only that
@@ -8,43 +24,67 @@ headless pitfall with two or more tool controllers).
 """
 
 import math
+import threading
 
 import FreeCAD
 import Path
 
 from freecad_ext import compat
-from freecad_ext.compat import PathLog, PathOp
+from freecad_ext.compat import QT_TRANSLATE_NOOP, PathOp, translate
+
+log = compat.logger(__name__)
+
+# The read-only outputs of every op, in one group (the task panel shows it).
+OUTPUT_GROUP = "Certificate"
+
+# Move kinds of the core's flat toolpath arrays, as its module binds them:
+# op_base.MOVE_FEED is isocam_core.FEED (read on first use, so importing the
+# glue does not need the compiled core).
+_MOVE_KINDS = {
+    "MOVE_RAPID": "RAPID",
+    "MOVE_FEED": "FEED",
+    "MOVE_PLUNGE": "PLUNGE",
+    "MOVE_ARC_CW": "ARC_CW",
+    "MOVE_ARC_CCW": "ARC_CCW",
+    "MOVE_RAMP": "RAMP",
+}
 
 
-# Move kinds of the core's flat toolpath arrays (src/core isocam/toolpath.h,
-# isocam/pocketing.h).
-MOVE_RAPID, MOVE_FEED, MOVE_PLUNGE, MOVE_ARC_CW, MOVE_ARC_CCW, MOVE_RAMP = 0, 1, 2, 3, 4, 5
+def __getattr__(name):
+    if name in _MOVE_KINDS:
+        return getattr(compat.import_core(), _MOVE_KINDS[name])
+    if name == "PathLog":  # the name ops written before the module loggers use
+        return compat.PathLog
+    raise AttributeError("module %r has no attribute %r" % (__name__, name))
 
 
 class IsoCAMError(Exception):
     """An input the operation cannot be computed with; the message names it."""
 
 
-def picked_faces(obj, what="faces"):
+def picked_faces(obj, what=None):
     """[(model object, [0-based face indices])] from obj.Base, in pick order.
 
     Raises IsoCAMError for a picked sub-element that is not a face; `what`
-    names what the user should pick instead.
+    names what the user should pick instead (default: faces).
     """
+    what = what or translate("IsoCAM", "faces")
     picked = []
     for base, subs in obj.Base or []:
         indices = []
         for sub in subs:
             if not sub.startswith("Face") or not sub[4:].isdigit():
                 raise IsoCAMError(
-                    "Base %s.%s is not a face; pick %s of the Job's model"
+                    translate("IsoCAM", "Base %s.%s is not a face; pick %s of the Job's model")
                     % (base.Label, sub, what)
                 )
             index = int(sub[4:]) - 1
             count = len(base.Shape.Faces)
             if not 0 <= index < count:
                 raise IsoCAMError(
-                    "Base %s.%s does not exist: %s has %d face%s (Face1..Face%d)"
+                    translate(
+                        "IsoCAM", "Base %s.%s does not exist: %s has %d face%s (Face1..Face%d)"
+                    )
                     % (base.Label, sub, base.Label, count, "" if count == 1 else "s", count)
                 )
             if index not in indices:
@@ -54,15 +94,40 @@ def picked_faces(obj, what="faces"):
     return picked
 
 
+# The work budget (src/core isocam/work_budget.h: kDefaultMaxMoves).
+DEFAULT_MAX_MOVES = 1000000
+
+# The property every IsoCAM op has, whatever its own definitions.
+_COMMON_DEFINITIONS = (
+    (
+        "App::PropertyInteger",
+        "MaxMoves",
+        "Work budget",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Largest number of moves the operation may compute. A job whose "
+            "estimate (from the faces' area, the stepover and the tolerances) "
+            "is larger is refused before the work; raise it for a larger job.",
+        ),
+    ),
+)
+_COMMON_DEFAULTS = {"MaxMoves": DEFAULT_MAX_MOVES}
+
+
 class IsoCAMOp(PathOp.ObjectOp):
     """Base of our operation proxies (each lives in an importable module, so
-    saved documents reopen). Subclasses say which tools they accept, their
-    read-only OUTPUTS ((type, property, metrics attribute, tip) rows) and
-    ARGUMENT_SOURCES (which FreeCAD input sets a core argument), and compute
-    in _compute(obj, core)."""
+    saved documents reopen). Subclasses give their properties as data (see
+    the module docstring), say which tools they accept and compute in
+    _compute(obj, core)."""
 
     OUTPUTS = ()
     ARGUMENT_SOURCES = ()
+    ENUMERATIONS = {}
+    # True: feed rates by FreeCAD's setFeedRate helper (HorizFeed, VertFeed
+    # for vertical moves, the tool controller's rapid rates on G0), as
+    # FreeCAD's Helix and Drilling ops. False: by the core's move kinds
+    # (plunge at VertFeed, the rest at HorizFeed) in commands_from_moves.
+    FEEDS_BY_SET_FEED_RATE = False
 
     def __init__(self, obj, name, parentJob=None, toolController=None):
         # Read by isToolSupported/opSetDefaultValues while the base class
@@ -72,23 +137,92 @@ class IsoCAMOp(PathOp.ObjectOp):
         super().__init__(obj, name, parentJob)
         self._requested_tc = None
 
+    # -- the op's properties as data ------------------------------------------
+
+    def opPropertyDefinitions(self):
+        """(type, name, group, tip) of the op's own properties."""
+        return []
+
+    def opPropertyDefaults(self, obj, job):
+        """Property -> default value of a new op (`job` may be None)."""
+        return {}
+
+    @classmethod
+    def propertyEnumerations(cls, dataType="data"):
+        """The values of the op's enumeration properties, as FreeCAD's ops
+        give them: "data" [(property, [value])], "raw" {property:
+        [(translated, value)]}, "translated" [(property, [translated])]."""
+        raw = {
+            prop: [(translate("IsoCAM", value), value) for value in values]
+            for prop, values in cls.ENUMERATIONS.items()
+        }
+        if dataType == "raw":
+            return raw
+        index = 0 if dataType == "translated" else 1
+        return [(prop, [pair[index] for pair in pairs]) for prop, pairs in raw.items()]
+
+    def init_properties(self, obj):
+        """Add the properties `obj` does not have yet, set the enumerations
+        (keeping a value that is still offered) and mark the outputs
+        read-only, in OUTPUT_GROUP. Returns the names of the added ones.
+
+        `obj` may be a SetupSheet OpPrototype: addProperty, setEditorMode
+        and attribute assignment are all it supports.
+        """
+        added = []
+        for prop_type, name, group, tip in tuple(self.opPropertyDefinitions()) + _COMMON_DEFINITIONS:
+            if not hasattr(obj, name):
+                obj.addProperty(prop_type, name, group, tip)
+                added.append(name)
+        for name, values in self.propertyEnumerations():
+            # (A SetupSheet prototype answers no hasattr(): its properties
+            # are the ones just added.)
+            if name not in added and not hasattr(obj, name):
+                continue
+            previous = getattr(obj, name) if name not in added else None
+            setattr(obj, name, list(values))
+            if previous in values:
+                setattr(obj, name, previous)
+        for prop_type, name, _attr, tip in self.OUTPUTS:
+            if not hasattr(obj, name):
+                obj.addProperty(prop_type, name, OUTPUT_GROUP, tip)
+            elif hasattr(obj, "setGroupOfProperty") and obj.getGroupOfProperty(name) != OUTPUT_GROUP:
+                # Before issue 14 the pocketing ops kept them in "Result".
+                obj.setGroupOfProperty(name, OUTPUT_GROUP)
+            obj.setEditorMode(name, 1)  # read-only in the property editor
+            if hasattr(obj, "setPropertyStatus"):  # not on a SetupSheet prototype
+                # Output: writing it during execute does not touch the op again.
+                obj.setPropertyStatus(name, ["ReadOnly", "Output"])
+        return added
+
+    def apply_defaults(self, obj, job, names):
+        """Set the defaults of the properties `names` (FreeCAD's
+        opApplyPropertyDefaults)."""
+        defaults = dict(_COMMON_DEFAULTS)
+        defaults.update(self.opPropertyDefaults(obj, job))
+        for name in names:
+            if name in defaults:
+                setattr(obj, name, defaults[name])
+
+    # -- PathOp hooks -----------------------------------------------------------
+
     def accepts_tool(self, tool):
         """True if the operation can use `tool` (any tool by default)."""
         return True
 
     def add_properties(self, obj):
-        """Add the operation's own properties that `obj` does not have yet."""
-        raise NotImplementedError
+        """Add what `obj` lacks and give the added ones their defaults."""
+        self.apply_defaults(obj, None, self.init_properties(obj))
 
     def initOperation(self, obj):
-        # `obj` may be a SetupSheet OpPrototype: addProperty, setEditorMode
-        # and attribute assignment are all it supports.
+        # Defaults here, not in opSetDefaultValues: a SetupSheet prototype
+        # gets no opSetDefaultValues and shows these in the sheet's editor.
         self.add_properties(obj)
-        add_budget_property(obj)
+        add_budget_property(obj)  # for an add_properties() of a subclass
 
     def opOnDocumentRestored(self, obj):
-        # Files written by older versions may lack newer properties; editor
-        # modes are not saved.
+        # Files written by older versions may lack newer properties (they
+        # get their defaults); enumerations and editor modes are not saved.
         self.add_properties(obj)
         add_budget_property(obj)
 
@@ -120,6 +254,8 @@ class IsoCAMOp(PathOp.ObjectOp):
             obj.ToolController = requested
             obj.OpToolDiameter = requested.Tool.Diameter
 
+    # -- running the core -------------------------------------------------------
+
     def compute_or_fail(self, obj):
         """Import the core and return self._compute(obj, core). A bad input or
         an error of the core marks this operation in error (fail()); anything
@@ -137,9 +273,44 @@ class IsoCAMOp(PathOp.ObjectOp):
             obj.Path = Path.Path()
             raise
 
+    def run_core(self, core, call, title):
+        """Run ``call(progress)`` in a worker thread (the core releases the
+        GIL) and return its result, or raise its exception here.
+
+        The Progress object is kept in ``self.active_progress`` while the
+        core runs, so a script or the task panel can poll its fraction or
+        cancel() it. In the GUI, freecad_ext.gui.progress keeps the window
+        painted and shows `title` in a progress dialog with Cancel.
+        """
+        progress = core.Progress()
+        outcome = {}
+
+        def work():
+            try:
+                outcome["result"] = call(progress)
+            except BaseException as exc:  # handed to the calling thread
+                outcome["error"] = exc
+
+        worker = threading.Thread(target=work, name="isocam-" + title)
+        self.active_progress = progress
+        try:
+            worker.start()
+            if FreeCAD.GuiUp:
+                from freecad_ext.gui import progress as gui_progress  # GUI only
+
+                gui_progress.wait(worker, progress, title)
+            else:
+                worker.join()
+        finally:
+            self.active_progress = None
+        if "error" in outcome:
+            raise outcome["error"]
+        return outcome["result"]
+
     def emit_commands(self, obj, results):
         """Append the moves: up to ClearanceHeight, across, then each core
-        result's path (arcs where it has them).
+        result's path (arcs where it has them), with their feed rates (see
+        FEEDS_BY_SET_FEED_RATE).
 
         The core's first move is a rapid to (x0, y0, SafeHeight) from
         wherever the machine is; going across at ClearanceHeight first makes
@@ -150,39 +321,36 @@ class IsoCAMOp(PathOp.ObjectOp):
         x0, y0 = (float(v) for v in results[0].xyz[0][:2])
         self.commandlist.append(Path.Command("G0", {"Z": clearance}))
         self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance}))
+        by_kind = not self.FEEDS_BY_SET_FEED_RATE
         for res in results:
             self.commandlist.extend(
                 commands_from_moves(
-                    res.kind, res.xyz, self.horizFeed, self.vertFeed, getattr(res, "centre", None)
+                    res.kind,
+                    res.xyz,
+                    self.horizFeed if by_kind else None,
+                    self.vertFeed if by_kind else None,
+                    getattr(res, "centre", None),
                 )
             )
+        if not by_kind:
+            compat.PathFeedRate.setFeedRate(self.commandlist, obj.ToolController)
 
     def fail(self, obj, message):
         """Report `message`, leave an empty path and no outputs, raise."""
         message = "%s: %s" % (obj.Label, message)
-        PathLog.error(message)
+        log.error(message)
         clear_outputs(obj, self.OUTPUTS)
         obj.Path = Path.Path()
         # The message says it all; FreeCAD prints the traceback of this raise.
         raise IsoCAMError(message) from None
 
 
-# The work budget (src/core isocam/work_budget.h: kDefaultMaxMoves).
-DEFAULT_MAX_MOVES = 1000000
-
-
 def add_budget_property(obj):
     """The MaxMoves property every IsoCAM op has (added to older files)."""
-    if not hasattr(obj, "MaxMoves"):
-        obj.addProperty(
-            "App::PropertyInteger",
-            "MaxMoves",
-            "Work budget",
-            "Largest number of moves the operation may compute. A job whose "
-            "estimate (from the faces' area, the stepover and the tolerances) "
-            "is larger is refused before the work; raise it for a larger job.",
-        )
-        obj.MaxMoves = DEFAULT_MAX_MOVES
+    for prop_type, name, group, tip in _COMMON_DEFINITIONS:
+        if not hasattr(obj, name):
+            obj.addProperty(prop_type, name, group, tip)
+            setattr(obj, name, _COMMON_DEFAULTS[name])
 
 
 def max_moves(obj):
@@ -200,17 +368,22 @@ def check_moves(proxy, obj, results, clearance):
         if len(xyz) == 0:
             continue
         if not all(math.isfinite(v) for v in xyz.ravel().tolist()):
-            proxy.fail(obj, "the core returned a move that is not finite (please report)")
+            proxy.fail(
+                obj, translate("IsoCAM", "the core returned a move that is not finite (please report)")
+            )
         z = float(xyz[:, 2].max())
         top = z if top is None else max(top, z)
     if top is None:
-        PathLog.warning("%s: the path is empty" % obj.Label)
+        log.warning(translate("IsoCAM", "%s: the path is empty") % obj.Label)
         return
     if clearance < top - 1e-9:
         proxy.fail(
             obj,
-            "property ClearanceHeight (%g mm) is below the path's highest point "
-            "(z = %g mm, SafeHeight or the model's top); raise ClearanceHeight"
+            translate(
+                "IsoCAM",
+                "property ClearanceHeight (%g mm) is below the path's highest point "
+                "(z = %g mm, SafeHeight or the model's top); raise ClearanceHeight",
+            )
             % (clearance, top),
         )
 
@@ -222,17 +395,35 @@ def clear_outputs(obj, outputs):
             setattr(obj, name, "" if prop_type == "App::PropertyString" else 0)
 
 
+def write_outputs(obj, outputs, metrics):
+    """Write the outputs from `metrics` (an object or a dict of the core's
+    metrics attributes); rows without an attribute are the caller's."""
+    for _type, name, attr, _tip in outputs:
+        if attr is None:
+            continue
+        value = metrics[attr] if isinstance(metrics, dict) else getattr(metrics, attr)
+        setattr(obj, name, value)
+
+
 # Core arguments every operation sets the same way.
 COMMON_SOURCES = (("max_moves", "property MaxMoves"),)
 
 
 def describe(exc, argument_sources):
-    """The exception's message, plus which FreeCAD input a core argument named
-    in it is set by (`argument_sources`: (core argument, FreeCAD input) pairs)."""
+    """The exception's message, plus which FreeCAD input sets the core
+    arguments the error is about (`argument_sources`: (core argument,
+    FreeCAD input) pairs).
+
+    The core's InvalidArgumentError carries the names of the arguments its
+    message is about (``exc.arguments``); other errors name none.
+    """
     message = str(exc) or type(exc).__name__
-    sources = [src for arg, src in tuple(argument_sources) + COMMON_SOURCES if arg in message]
-    if sources:
-        message += " [set by %s]" % ", ".join(sources)
+    sources = dict(COMMON_SOURCES)
+    sources.update(dict(argument_sources))
+    named = [sources[arg] for arg in getattr(exc, "arguments", ()) if arg in sources]
+    named = [src for i, src in enumerate(named) if src not in named[:i]]
+    if named:
+        message += " [%s %s]" % (translate("IsoCAM", "set by"), ", ".join(named))
     return message
 
 
@@ -267,41 +458,38 @@ def commands_from_moves(kind, xyz, horiz_feed, vert_feed, centre=None):
     where the path has arcs, centre (N,2).
 
     Rapid -> G0; feed and ramp -> G1 at `horiz_feed`; plunge -> G1 at `vert_feed`
-    (FreeCAD's units: mm and mm/s); arcs -> G2 (clockwise) / G3 with I, J
-    relative to the arc's start, as FreeCAD's Path and the post-processors
-    expect.
+    (FreeCAD's units: mm and mm/s; None: no F word, for setFeedRate to set);
+    arcs -> G2 (clockwise) / G3 with I, J relative to the arc's start, as
+    FreeCAD's Path and the post-processors expect.
     """
+    core = compat.import_core()
+    rapid, plunge = core.RAPID, core.PLUNGE
+    feeds = (core.FEED, core.RAMP)
+    arcs = {core.ARC_CW: "G2", core.ARC_CCW: "G3"}
+
+    def fed(params, feed):
+        if feed is not None:
+            params["F"] = feed
+        return params
+
     commands = []
     px = py = None
     centres = centre.tolist() if centre is not None else [(math.nan, math.nan)] * len(kind)
     for k, (x, y, z), (cx, cy) in zip(kind.tolist(), xyz.tolist(), centres):
-        if k == MOVE_RAPID:
+        if k == rapid:
             commands.append(Path.Command("G0", {"X": x, "Y": y, "Z": z}))
-        elif k in (MOVE_FEED, MOVE_RAMP):
-            commands.append(
-                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": horiz_feed})
-            )
-        elif k == MOVE_PLUNGE:
-            commands.append(
-                Path.Command("G1", {"X": x, "Y": y, "Z": z, "F": vert_feed})
-            )
-        elif k in (MOVE_ARC_CW, MOVE_ARC_CCW):
+        elif k in feeds:
+            commands.append(Path.Command("G1", fed({"X": x, "Y": y, "Z": z}, horiz_feed)))
+        elif k == plunge:
+            commands.append(Path.Command("G1", fed({"X": x, "Y": y, "Z": z}, vert_feed)))
+        elif k in arcs:
             if px is None or math.isnan(cx):
-                raise IsoCAMError("the core returned an arc without a start or centre")
-            commands.append(
-                Path.Command(
-                    "G2" if k == MOVE_ARC_CW else "G3",
-                    {
-                        "X": x,
-                        "Y": y,
-                        "Z": z,
-                        "I": cx - px,
-                        "J": cy - py,
-                        "F": horiz_feed,
-                    },
+                raise IsoCAMError(
+                    translate("IsoCAM", "the core returned an arc without a start or centre")
                 )
-            )
+            params = {"X": x, "Y": y, "Z": z, "I": cx - px, "J": cy - py}
+            commands.append(Path.Command(arcs[k], fed(params, horiz_feed)))
         else:
-            raise IsoCAMError("the core returned an unknown move kind %d" % k)
+            raise IsoCAMError(translate("IsoCAM", "the core returned an unknown move kind %d") % k)
         px, py = x, y
     return commands

@@ -22,6 +22,7 @@ import os
 from dataclasses import dataclass
 
 from freecad_ext import compat
+from freecad_ext.compat import QT_TRANSLATE_NOOP, translate
 
 # Selection gates (freecad_ext.gui.view_provider): which picks a row accepts.
 FACES = "faces"  # any face: finishing follows the surface
@@ -56,10 +57,13 @@ OPERATIONS = (
     OperationSpec(
         module="freecad_ext.adaptive_isocurve",
         name="AdaptiveIsocurve",
-        menu_text="Adaptive Isocurve",
-        tooltip="Adaptive isocurve finishing of the picked faces with a ball-end "
-        "tool (Elber and Cohen): the scallop height stays below the requested "
-        "one everywhere, with fewer and shorter passes than a uniform pattern.",
+        menu_text=QT_TRANSLATE_NOOP("IsoCAM_AdaptiveIsocurve", "Adaptive Isocurve"),
+        tooltip=QT_TRANSLATE_NOOP(
+            "IsoCAM_AdaptiveIsocurve",
+            "Adaptive isocurve finishing of the picked faces with a ball-end "
+            "tool (Elber and Cohen): the scallop height stays below the requested "
+            "one everywhere, with fewer and shorter passes than a uniform pattern.",
+        ),
         selection=FACES,
         rules=(
             ("faces",),
@@ -73,9 +77,12 @@ OPERATIONS = (
     OperationSpec(
         module="freecad_ext.spiral_pocket",
         name="SpiralPocket",
-        menu_text="Spiral Pocket",
-        tooltip="Pocket the picked floor faces (flat or sculptured) with an "
-        "island-aware spiral path.",
+        menu_text=QT_TRANSLATE_NOOP("IsoCAM_SpiralPocket", "Spiral Pocket"),
+        tooltip=QT_TRANSLATE_NOOP(
+            "IsoCAM_SpiralPocket",
+            "Pocket the picked floor faces (flat or sculptured) with an "
+            "island-aware spiral path.",
+        ),
         # Any face: a sculptured floor is a valid pick; the operation checks.
         selection=FACES,
         rules=(("faces",), ("tool",)),
@@ -83,9 +90,12 @@ OPERATIONS = (
     OperationSpec(
         module="freecad_ext.zlevel_roughing",
         name="ZLevelRoughing",
-        menu_text="Z-level Roughing",
-        tooltip="Rough the stock down to the model in constant-Z levels, leaving "
-        "StockToLeave for the finish; picked faces (optional) set the final depth.",
+        menu_text=QT_TRANSLATE_NOOP("IsoCAM_ZLevelRoughing", "Z-level Roughing"),
+        tooltip=QT_TRANSLATE_NOOP(
+            "IsoCAM_ZLevelRoughing",
+            "Rough the stock down to the model in constant-Z levels, leaving "
+            "StockToLeave for the finish; picked faces (optional) set the final depth.",
+        ),
         selection=FLOOR_FACES,
         rules=(("tool",),),
     ),
@@ -171,16 +181,17 @@ class Inputs:
 
 def _faces(inputs):
     if not inputs.faces:
-        return (
+        return translate(
+            "IsoCAM",
             "No face picked: select faces of the Job's model in the 3D view and "
-            "press Add on the Base Geometry page."
+            "press Add on the Base Geometry page.",
         )
     return None
 
 
 def _tool(inputs):
     if inputs.tool_controller is None:
-        return "No tool controller: add one to the Job."
+        return translate("IsoCAM", "No tool controller: add one to the Job.")
     return None
 
 
@@ -190,14 +201,14 @@ def _ball_end(inputs):
         return missing
     tool = inputs.tool
     if not compat.is_ball_end(tool):
-        return (
+        return translate(
+            "IsoCAM",
             "Tool controller '%s' holds '%s', a %s tool; this operation needs a "
-            "ball-end tool (ToolBit shape ballend.fcstd)."
-            % (
-                inputs.tool_controller.Label,
-                compat.tool_label(tool),
-                compat.tool_shape(tool) or "unknown",
-            )
+            "ball-end tool (ToolBit shape ballend.fcstd).",
+        ) % (
+            inputs.tool_controller.Label,
+            compat.tool_label(tool),
+            compat.tool_shape(tool) or "unknown",
         )
     return None
 
@@ -205,18 +216,18 @@ def _ball_end(inputs):
 def _positive(inputs, prop):
     value = inputs.values.get(prop)
     if value is None:
-        return "%s: not a length." % prop
+        return translate("IsoCAM", "%s: not a length.") % prop
     if value <= 0:
-        return "%s must be greater than 0 mm." % prop
+        return translate("IsoCAM", "%s must be greater than 0 mm.") % prop
     return None
 
 
 def _not_negative(inputs, prop):
     value = inputs.values.get(prop)
     if value is None:
-        return "%s: not a length." % prop
+        return translate("IsoCAM", "%s: not a length.") % prop
     if value < 0:
-        return "%s must be 0 (derived) or greater." % prop
+        return translate("IsoCAM", "%s must be 0 (derived) or greater.") % prop
     return None
 
 
@@ -225,7 +236,9 @@ def _below_ball_radius(inputs, prop):
     if value is None or radius is None or value <= 0:
         return None  # reported by other rules
     if value >= radius:
-        return "%s %g mm must be smaller than the ball radius %g mm of '%s'." % (
+        return translate(
+            "IsoCAM", "%s %g mm must be smaller than the ball radius %g mm of '%s'."
+        ) % (
             prop,
             value,
             radius,
@@ -266,10 +279,11 @@ def _ball_stepover(inputs):
     delta = compat.import_core().stepover_for_scallop(radius, scallop)
     # The exact value: the field may show it rounded to the decimals of
     # FreeCAD's unit preferences.
-    return (
+    return translate(
+        "IsoCAM",
         "Scallop height %g mm: adjacent passes at most %.4g mm apart along "
-        "the surface (ball radius %g mm)." % (scallop, delta, radius)
-    )
+        "the surface (ball radius %g mm).",
+    ) % (scallop, delta, radius)
 
 
 HINTS = {"ball_stepover": _ball_stepover}

@@ -1,27 +1,23 @@
 """Shared glue of the pocketing operations (Spiral Pocket, Z-level Roughing).
 
-Maps FreeCAD's depth properties to the core's z levels and runs a core call
-in a worker thread (the core releases the GIL); op_base turns the core's flat
-move arrays -- with G2/G3 arcs -- into ``Path.Command``s. No geometry here.
+Maps FreeCAD's depth properties to the core's z levels; op_base runs the
+core (worker thread, progress and cancel) and turns its flat move arrays --
+with G2/G3 arcs -- into ``Path.Command``s, feeds by FreeCAD's setFeedRate.
+No geometry here.
 """
 
-import threading
-
-import FreeCAD
-
 from freecad_ext import compat, op_base
-from freecad_ext.compat import PathOp
-from freecad_ext.op_base import (
-    MOVE_ARC_CCW,
-    MOVE_ARC_CW,
-    MOVE_FEED,
-    MOVE_PLUNGE,
-    MOVE_RAPID,
-    IsoCAMError,
-    IsoCAMOp,
-)
+from freecad_ext.compat import QT_TRANSLATE_NOOP, PathOp, translate
+from freecad_ext.op_base import IsoCAMError, IsoCAMOp
 
 DIRECTIONS = ("Climb", "Conventional")
+
+
+def __getattr__(name):
+    # MOVE_RAPID, MOVE_ARC_CW, ...: the core's move kinds (op_base).
+    if name.startswith("MOVE_"):
+        return getattr(op_base, name)
+    raise AttributeError("module %r has no attribute %r" % (__name__, name))
 
 
 def depth_levels(obj):
@@ -29,11 +25,12 @@ def depth_levels(obj):
     FinalDepth and StepDown (PathUtils.depth_params, as FreeCAD's own ops)."""
     step = obj.StepDown.Value
     if step <= 0:
-        raise IsoCAMError("property StepDown must be > 0 (it is %g mm)" % step)
+        raise IsoCAMError(translate("IsoCAM", "property StepDown must be > 0 (it is %g mm)") % step)
     start, final = obj.StartDepth.Value, obj.FinalDepth.Value
     if final > start:
         raise IsoCAMError(
-            "property FinalDepth (%g mm) is above StartDepth (%g mm)" % (final, start)
+            translate("IsoCAM", "property FinalDepth (%g mm) is above StartDepth (%g mm)")
+            % (final, start)
         )
     params = compat.PathUtils.depth_params(
         clearance_height=obj.ClearanceHeight.Value,
@@ -66,80 +63,18 @@ def pocket_params(obj, core, radius, tolerance, scallop=None):
 
 
 def run_core(proxy, core, call, name):
-    """Run ``call(progress)`` in a worker thread and wait for it.
-
-    The Progress object is kept in ``proxy.active_progress`` while the core
-    runs, so a task panel can poll its fraction or cancel() it.
-    """
-    progress = core.Progress()
-    outcome = {}
-
-    def work():
-        try:
-            outcome["result"] = call(progress)
-        except BaseException as exc:  # handed to the calling thread
-            outcome["error"] = exc
-
-    worker = threading.Thread(target=work, name="isocam-" + name)
-    proxy.active_progress = progress
-    try:
-        worker.start()
-        _wait(worker, progress, name)
-    finally:
-        proxy.active_progress = None
-    if "error" in outcome:
-        raise outcome["error"]
-    return outcome["result"]
-
-
-def _wait(worker, progress, name):
-    """Block until the worker ends; in the GUI keep the window painted."""
-    if not FreeCAD.GuiUp:
-        worker.join()
-        return
-    from PySide import QtCore, QtGui  # GUI only
-
-    import FreeCADGui
-
-    bar = FreeCADGui.getMainWindow().statusBar()
-    while worker.is_alive():
-        worker.join(0.1)
-        bar.showMessage("%s: %d %%" % (name, int(100 * progress.fraction)))
-        QtGui.QApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents)
-    bar.clearMessage()
+    """``proxy.run_core`` (op_base): the call in a worker thread, with
+    progress and cancel."""
+    return proxy.run_core(core, call, name)
 
 
 def picked_faces(obj):
     """[(model object, [0-based face indices])] from obj.Base, in pick order."""
-    return op_base.picked_faces(obj, "floor faces")
-
-
-def add_properties(obj, inputs, outputs, output_group, set_defaults):
-    """Add the op's own properties that `obj` does not have yet.
-
-    inputs: (type, name, group, tip, default[, enumeration]);
-    outputs: (type, name, metrics attribute, tip), read-only outputs.
-    """
-    for row in inputs:
-        prop_type, name, group, tip, default = row[:5]
-        if not hasattr(obj, name):
-            obj.addProperty(prop_type, name, group, tip)
-            if len(row) > 5:
-                setattr(obj, name, list(row[5]))
-            if set_defaults:
-                setattr(obj, name, default)
-    for prop_type, name, _attr, tip in outputs:
-        if not hasattr(obj, name):
-            obj.addProperty(prop_type, name, output_group, tip)
-        obj.setEditorMode(name, 1)  # read-only in the property editor
-        if hasattr(obj, "setPropertyStatus"):  # not on a SetupSheet prototype
-            obj.setPropertyStatus(name, ["ReadOnly", "Output"])
+    return op_base.picked_faces(obj, translate("IsoCAM", "floor faces"))
 
 
 def write_outputs(obj, outputs, metrics):
-    for _type, name, attr, _tip in outputs:
-        setattr(obj, name, getattr(metrics, attr))
-
+    op_base.write_outputs(obj, outputs, metrics)
 
 
 # Metrics every pocketing op reports (type, property, metrics attribute, tip).
@@ -148,49 +83,93 @@ OUTPUTS = (
         "App::PropertyLength",
         "CuttingLength",
         "cutting_length",
-        "Length of the cutting moves (G1, G2, G3)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of the cutting moves (G1, G2, G3)",
+        ),
     ),
-    ("App::PropertyLength", "RapidLength", "rapid_length", "Length of the rapid moves"),
+    (
+        "App::PropertyLength",
+        "RapidLength",
+        "rapid_length",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of the rapid moves",
+        ),
+    ),
     (
         "App::PropertyInteger",
         "Retracts",
         "retracts",
-        "Number of retracts to SafeHeight",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of retracts to SafeHeight",
+        ),
     ),
     (
         "App::PropertyInteger",
         "FeedLinks",
         "feed_links",
-        "Loop-to-loop links cut without a retract",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Loop-to-loop links cut without a retract",
+        ),
     ),
     (
         "App::PropertyInteger",
         "Loops",
         "loops",
-        "Number of offset profiles cut (all levels)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of offset profiles cut (all levels)",
+        ),
     ),
-    ("App::PropertyInteger", "Levels", "levels", "Number of z levels"),
+    (
+        "App::PropertyInteger",
+        "Levels",
+        "levels",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of z levels",
+        ),
+    ),
     (
         "App::PropertyInteger",
         "CLPoints",
         "cl_points",
-        "Number of cutting moves (CL points)",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of cutting moves (CL points)",
+        ),
     ),
-    ("App::PropertyInteger", "Arcs", "arcs", "Number of G2/G3 arcs"),
+    (
+        "App::PropertyInteger",
+        "Arcs",
+        "arcs",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Number of G2/G3 arcs",
+        ),
+    ),
     (
         "App::PropertyLength",
         "MinInterval",
         "min_interval",
-        "Smallest path interval used",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Smallest path interval used",
+        ),
     ),
     (
         "App::PropertyLength",
         "MaxInterval",
         "max_interval",
-        "Largest path interval used",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Largest path interval used",
+        ),
     ),
 )
-OUTPUT_GROUP = "Result"
 
 
 def arrays_from_path(path, start=(0.0, 0.0, 0.0)):
@@ -201,6 +180,7 @@ def arrays_from_path(path, start=(0.0, 0.0, 0.0)):
     """
     import numpy as np
 
+    core = compat.import_core()
     x, y, z = start
     kinds, pts, centres = [], [], []
     nan = float("nan")
@@ -212,11 +192,11 @@ def arrays_from_path(path, start=(0.0, 0.0, 0.0)):
         nx, ny, nz = p.get("X", x), p.get("Y", y), p.get("Z", z)
         cx = cy = nan
         if name in ("G0", "G00"):
-            k = MOVE_RAPID
+            k = core.RAPID
         elif name in ("G1", "G01"):
-            k = MOVE_PLUNGE if (nx, ny) == (x, y) and nz < z else MOVE_FEED
+            k = core.PLUNGE if (nx, ny) == (x, y) and nz < z else core.FEED
         else:
-            k = MOVE_ARC_CW if name in ("G2", "G02") else MOVE_ARC_CCW
+            k = core.ARC_CW if name in ("G2", "G02") else core.ARC_CCW
             cx, cy = x + p.get("I", 0.0), y + p.get("J", 0.0)
         kinds.append(k)
         pts.append((nx, ny, nz))
@@ -243,11 +223,16 @@ def argument_sources(own):
 
 
 class PocketOp(IsoCAMOp):
-    """Base of the pocketing operations: FreeCAD's depth features, and the
-    subclass's INPUTS plus the shared certificate OUTPUTS as properties."""
+    """Base of the pocketing operations: FreeCAD's depth features, the
+    shared certificate OUTPUTS, feeds by FreeCAD's setFeedRate (the same
+    feeds as the core's move kinds on these paths: straight-down plunges,
+    no zero-length moves), and the subclass's opPropertyDefinitions()."""
 
-    INPUTS = ()
     OUTPUTS = OUTPUTS
+    ENUMERATIONS = {
+        "Direction": tuple(QT_TRANSLATE_NOOP("IsoCAM", d) for d in DIRECTIONS),
+    }
+    FEEDS_BY_SET_FEED_RATE = True
 
     def opFeatures(self, obj):
         return (
@@ -258,6 +243,3 @@ class PocketOp(IsoCAMOp):
             | PathOp.FeatureBaseFaces
             | PathOp.FeatureCoolant
         )
-
-    def add_properties(self, obj):
-        add_properties(obj, self.INPUTS, OUTPUTS, OUTPUT_GROUP, True)

@@ -13,6 +13,9 @@ so a Job template) first, then these preferences, then the built-in default.
 import FreeCAD
 
 from freecad_ext import compat
+from freecad_ext.compat import translate
+
+log = compat.logger(__name__)
 
 GROUP = "User parameter:BaseApp/Preferences/Mod/IsoCAM"
 
@@ -82,8 +85,8 @@ def apply_defaults(obj, op_name, setup_properties, job):
         try:
             setattr(obj, prop, _as_type_of(getattr(obj, prop), value))
         except (ValueError, TypeError) as exc:
-            FreeCAD.Console.PrintWarning(
-                "IsoCAM: preference %s/%s = %r ignored: %s\n"
+            log.warning(
+                translate("IsoCAM", "preference %s/%s = %r ignored: %s")
                 % (op_name, prop, value, exc)
             )
             continue

@@ -22,53 +22,18 @@ rest of the work goes on.
 
 import time
 
-import FreeCAD
 
 from freecad_ext import compat, op_base, pocket_glue
-from freecad_ext.compat import PathLog
+from freecad_ext.compat import QT_TRANSLATE_NOOP, translate
 from freecad_ext.op_base import IsoCAMError
+
+log = compat.logger(__name__)
 
 __title__ = "IsoCAM Spiral Pocket operation"
 
 OP_NAME = "SpiralPocket"
 DIRECTIONS = pocket_glue.DIRECTIONS
 
-# (type, name, group, tooltip, default[, enumeration]) of the user's parameters.
-_INPUTS = (
-    (
-        "App::PropertyPercent",
-        "StepOver",
-        "Spiral Pocket",
-        "Path interval on a flat floor, in percent of the tool diameter. Where "
-        "a larger interval would leave material (sharp corners, narrow "
-        "fingers), the core reduces it.",
-        50,
-    ),
-    (
-        "App::PropertyLength",
-        "ScallopHeight",
-        "Spiral Pocket",
-        "Sculptured floor (ball-end tool): largest scallop left between passes; "
-        "sets the path interval from the floor's curvature.",
-        0.05,
-    ),
-    (
-        "App::PropertyLength",
-        "Tolerance",
-        "Spiral Pocket",
-        "Free curves (ellipses, B-splines) to arcs, and the plan-view and floor "
-        "deviation of the sculptured floor's points.",
-        0.01,
-    ),
-    (
-        "App::PropertyEnumeration",
-        "Direction",
-        "Spiral Pocket",
-        "Climb: the wall on the right of the cut (spindle M3); Conventional: the reverse.",
-        "Climb",
-        DIRECTIONS,
-    ),
-)
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
@@ -83,7 +48,58 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
 
     ARGUMENT_SOURCES = _ARGUMENT_SOURCES
 
-    INPUTS = _INPUTS
+    def opPropertyDefinitions(self):
+        return [
+            (
+                "App::PropertyPercent",
+                "StepOver",
+                "Spiral Pocket",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Path interval on a flat floor, in percent of the tool diameter. "
+                    "Where a larger interval would leave material (sharp corners, "
+                    "narrow fingers), the core reduces it.",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "ScallopHeight",
+                "Spiral Pocket",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Sculptured floor (ball-end tool): largest scallop left between "
+                    "passes; sets the path interval from the floor's curvature.",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "Tolerance",
+                "Spiral Pocket",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Free curves (ellipses, B-splines) to arcs, and the plan-view and "
+                    "floor deviation of the sculptured floor's points.",
+                ),
+            ),
+            (
+                "App::PropertyEnumeration",
+                "Direction",
+                "Spiral Pocket",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Climb: the wall on the right of the cut (spindle M3); "
+                    "Conventional: the reverse.",
+                ),
+            ),
+        ]
+
+    def opPropertyDefaults(self, obj, job):
+        return {
+            "StepOver": 50,
+            "ScallopHeight": 0.05,
+            "Tolerance": 0.01,
+            "Direction": "Climb",
+        }
 
     # -- PathOp hooks -------------------------------------------------------
 
@@ -101,7 +117,10 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
         picked = pocket_glue.picked_faces(obj)
         if not picked:
             raise IsoCAMError(
-                "no faces picked: set Base to the pocket floor face(s) of the Job's model"
+                translate(
+                    "IsoCAM",
+                    "no faces picked: set Base to the pocket floor face(s) of the Job's model",
+                )
             )
         levels = pocket_glue.depth_levels(obj)
         tool = obj.ToolController.Tool
@@ -118,15 +137,18 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
                     brep, faces, params, levels, ball_end, progress
                 )
 
-            res = pocket_glue.run_core(self, core, call, "spiral-pocket")
+            res = self.run_core(core, call, translate("IsoCAM", "Spiral pocket"))
             for message in res.metrics.messages:
-                PathLog.warning("%s: %s: %s" % (obj.Label, base.Label, message))
+                log.warning("%s: %s: %s" % (obj.Label, base.Label, message))
             if len(res.kind) > 0:
                 results.append(res)
         if not results:
             raise IsoCAMError(
-                "nothing to cut: the picked faces are too small for the tool "
-                "or cannot be pocketed (see the warnings)"
+                translate(
+                    "IsoCAM",
+                    "nothing to cut: the picked faces are too small for the tool "
+                    "or cannot be pocketed (see the warnings)",
+                )
             )
         return results
 
@@ -159,9 +181,12 @@ def _combined(results):
 
 
 def _print_summary(obj, m, seconds):
-    FreeCAD.Console.PrintMessage(
-        "IsoCAM %s: %d loops on %d levels, %d CL points (%d G2/G3), cutting %.1f mm, "
-        "rapid %.1f mm, %d retracts, %d feed links, interval %.3f-%.3f mm; %.2f s\n"
+    log.info(
+        translate(
+            "IsoCAM",
+            "IsoCAM %s: %d loops on %d levels, %d CL points (%d G2/G3), cutting %.1f mm, "
+            "rapid %.1f mm, %d retracts, %d feed links, interval %.3f-%.3f mm; %.2f s",
+        )
         % (
             obj.Label,
             m.loops,
@@ -196,7 +221,7 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
         obj,
         parentJob,
         toolController,
-        "the Job has no tool controller; add one or pass toolController=",
+        translate("IsoCAM", "the Job has no tool controller; add one or pass toolController="),
     )
 
 

@@ -17,51 +17,19 @@ the whole model.
 
 import time
 
-import FreeCAD
 import Part
 
 from freecad_ext import compat, op_base, pocket_glue
-from freecad_ext.compat import PathLog
+from freecad_ext.compat import QT_TRANSLATE_NOOP, translate
 from freecad_ext.op_base import IsoCAMError
+
+log = compat.logger(__name__)
 
 __title__ = "IsoCAM Z-level Roughing operation"
 
 OP_NAME = "ZLevelRoughing"
 DIRECTIONS = pocket_glue.DIRECTIONS
 
-_INPUTS = (
-    (
-        "App::PropertyPercent",
-        "StepOver",
-        "Z-level Roughing",
-        "Path interval in percent of the tool diameter (reduced by the core "
-        "where a larger one would leave material).",
-        50,
-    ),
-    (
-        "App::PropertyLength",
-        "StockToLeave",
-        "Z-level Roughing",
-        "Material left on the model, on its sides and on its floors, for the "
-        "finishing pass.",
-        0.5,
-    ),
-    (
-        "App::PropertyLength",
-        "Tolerance",
-        "Z-level Roughing",
-        "Section curves (B-splines) to arcs.",
-        0.01,
-    ),
-    (
-        "App::PropertyEnumeration",
-        "Direction",
-        "Z-level Roughing",
-        "Climb: the material on the right of the cut (spindle M3); Conventional: the reverse.",
-        "Climb",
-        DIRECTIONS,
-    ),
-)
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
@@ -75,7 +43,56 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
 
     ARGUMENT_SOURCES = _ARGUMENT_SOURCES
 
-    INPUTS = _INPUTS
+    def opPropertyDefinitions(self):
+        return [
+            (
+                "App::PropertyPercent",
+                "StepOver",
+                "Z-level Roughing",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Path interval in percent of the tool diameter (reduced by the "
+                    "core where a larger one would leave material).",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "StockToLeave",
+                "Z-level Roughing",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Material left on the model, on its sides and on its floors, for "
+                    "the finishing pass.",
+                ),
+            ),
+            (
+                "App::PropertyLength",
+                "Tolerance",
+                "Z-level Roughing",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Section curves (B-splines) to arcs.",
+                ),
+            ),
+            (
+                "App::PropertyEnumeration",
+                "Direction",
+                "Z-level Roughing",
+                QT_TRANSLATE_NOOP(
+                    "App::Property",
+                    "Climb: the material on the right of the cut (spindle M3); "
+                    "Conventional: the reverse.",
+                ),
+            ),
+        ]
+
+    def opPropertyDefaults(self, obj, job):
+        return {
+            "StepOver": 50,
+            "StockToLeave": 0.5,
+            "Tolerance": 0.01,
+            "Direction": "Climb",
+        }
 
     def opUpdateDepths(self, obj):
         # Without Base FreeCAD takes the model's top as the final depth (for
@@ -93,9 +110,12 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
         self.emit_commands(obj, [res])
         pocket_glue.write_outputs(obj, _OUTPUTS, res.metrics)
         m = res.metrics
-        FreeCAD.Console.PrintMessage(
-            "IsoCAM %s: %d loops on %d levels, cutting %.1f mm, rapid %.1f mm, "
-            "%d retracts, %d feed links; %.2f s\n"
+        log.info(
+            translate(
+                "IsoCAM",
+                "IsoCAM %s: %d loops on %d levels, cutting %.1f mm, rapid %.1f mm, "
+                "%d retracts, %d feed links; %.2f s",
+            )
             % (
                 obj.Label,
                 m.loops,
@@ -112,11 +132,11 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
         levels = pocket_glue.depth_levels(obj)
         models = [m.Shape for m in self.model]
         if not models:
-            raise IsoCAMError("the Job has no model")
+            raise IsoCAMError(translate("IsoCAM", "the Job has no model"))
         model = models[0] if len(models) == 1 else Part.makeCompound(models)
         stock = self.stock.Shape if self.stock is not None else None
         if stock is None or stock.isNull():
-            raise IsoCAMError("the Job has no stock")
+            raise IsoCAMError(translate("IsoCAM", "the Job has no stock"))
         params = pocket_glue.pocket_params(obj, core, self.radius, obj.Tolerance.Value)
         model_brep, stock_brep = model.exportBrepToString(), stock.exportBrepToString()
         stl = obj.StockToLeave.Value
@@ -126,13 +146,16 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
                 model_brep, stock_brep, params, levels, stl, progress
             )
 
-        res = pocket_glue.run_core(self, core, call, "zlevel-roughing")
+        res = self.run_core(core, call, translate("IsoCAM", "Z-level roughing"))
         for message in res.metrics.messages:
-            PathLog.warning("%s: %s" % (obj.Label, message))
+            log.warning("%s: %s" % (obj.Label, message))
         if len(res.kind) == 0:
             raise IsoCAMError(
-                "nothing to cut between StartDepth and FinalDepth (is the stock "
-                "above the model, and the tool small enough?)"
+                translate(
+                    "IsoCAM",
+                    "nothing to cut between StartDepth and FinalDepth (is the stock "
+                    "above the model, and the tool small enough?)",
+                )
             )
         return res
 
@@ -149,7 +172,7 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
         obj,
         parentJob,
         toolController,
-        "the Job has no tool controller; add one or pass toolController=",
+        translate("IsoCAM", "the Job has no tool controller; add one or pass toolController="),
     )
 
 

@@ -23,6 +23,9 @@ import FreeCADGui
 from PySide import QtCore, QtGui
 
 from freecad_ext import compat, operations, preferences
+from freecad_ext.compat import translate
+
+log = compat.logger(__name__)
 
 TOOLBAR = "IsoCAM"
 SUBMENU = "IsoCAM"
@@ -65,7 +68,7 @@ def _jobs(doc):
 
 def _tell_user(text):
     """Report view plus a message box, as FreeCAD's own op commands do."""
-    FreeCAD.Console.PrintError("IsoCAM: %s\n" % text)
+    log.error(text)
     QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), "IsoCAM", text)
 
 
@@ -146,7 +149,7 @@ def _offer_ball_end_tool_controller(spec, job):
         tc = scripting.make_ball_end_tool_controller(job, diameter)
     except Exception as exc:
         doc.abortTransaction()
-        _tell_user("the ball-end tool controller could not be added: %s" % exc)
+        _tell_user(translate("IsoCAM", "the ball-end tool controller could not be added: %s") % exc)
         return None
     doc.commitTransaction()
     doc.recompute()
@@ -163,16 +166,23 @@ def create_operation(spec):
     if tc is None and ("ball_end",) in spec.rules:
         tc = _offer_ball_end_tool_controller(spec, job)
         if tc is None:
-            FreeCAD.Console.PrintMessage(
-                "IsoCAM: %s not created: Job '%s' has no ball-end tool.\n"
+            log.notice(
+                translate("IsoCAM", "%s not created: Job '%s' has no ball-end tool.")
                 % (spec.menu_text, job.Label)
             )
             return None
     if tc is None:
-        needs = "a ball-end tool" if ("ball_end",) in spec.rules else "a tool"
+        needs = (
+            translate("IsoCAM", "a ball-end tool")
+            if ("ball_end",) in spec.rules
+            else translate("IsoCAM", "a tool")
+        )
         _tell_user(
-            "%s: Job '%s' has no tool controller with %s. Add one (Path > "
-            "ToolBit Library editor) and try again."
+            translate(
+                "IsoCAM",
+                "%s: Job '%s' has no tool controller with %s. Add one (Path > "
+                "ToolBit Library editor) and try again.",
+            )
             % (spec.menu_text, job.Label, needs)
         )
         return None
@@ -191,7 +201,7 @@ def create_operation(spec):
         obj.ViewObject.Visibility = True
     except Exception as exc:
         doc.abortTransaction()
-        _tell_user("%s could not be created: %s" % (spec.menu_text, exc))
+        _tell_user(translate("IsoCAM", "%s could not be created: %s") % (spec.menu_text, exc))
         return None
     doc.commitTransaction()
     obj.ViewObject.Document.setEdit(obj.ViewObject, 0)
@@ -225,9 +235,7 @@ def _import_operations():
         try:
             spec.import_module()
         except Exception as exc:  # a broken op must not break the others
-            FreeCAD.Console.PrintError(
-                "IsoCAM: cannot load %s: %s\n" % (spec.module, exc)
-            )
+            log.error(translate("IsoCAM", "cannot load %s: %s") % (spec.module, exc))
 
 
 def _add_to_workbench(name):

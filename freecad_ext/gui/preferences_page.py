@@ -6,11 +6,12 @@ built-in defaults), so a new row gets its defaults page without a .ui file.
 Values are stored by freecad_ext.preferences.
 """
 
-import FreeCAD
 import FreeCADGui
 from PySide import QtGui
 
 from freecad_ext import compat, operations, preferences
+
+log = compat.logger(__name__)
 
 
 def _prototype(spec):
@@ -106,7 +107,7 @@ class PreferencesPage:
             try:
                 op_name, prototype, props = _prototype(spec)
             except Exception as exc:
-                FreeCAD.Console.PrintError("IsoCAM: %s: %s\n" % (spec.module, exc))
+                log.error("%s: %s" % (spec.module, exc))
                 continue
             if prototype is None:
                 continue

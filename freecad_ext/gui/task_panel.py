@@ -22,12 +22,15 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtCore, QtGui
 
-from freecad_ext import compat, operations
+from freecad_ext import compat, op_base, operations
+from freecad_ext.compat import translate
 from freecad_ext.gui import progress
+
+log = compat.logger(__name__)
 
 _base = compat.gui().OpGui
 
-CERTIFICATE_GROUP = "Certificate"  # read-only outputs the op writes
+CERTIFICATE_GROUP = op_base.OUTPUT_GROUP  # read-only outputs the op writes
 QUANTITY_TYPES = ("Length", "Distance", "Angle", "Speed", "Quantity", "Area")
 
 
@@ -281,9 +284,7 @@ class OperationPage(_base.TaskPanelPage):
         for prop in self._setup_properties():
             widget = self.form.findChild(QtCore.QObject, prop)
             if widget is None:
-                FreeCAD.Console.PrintLog(
-                    "IsoCAM: %s panel has no widget for %s\n" % (self.spec.name, prop)
-                )
+                log.debug("%s panel has no widget for %s" % (self.spec.name, prop))
                 continue
             if not widget.toolTip():
                 widget.setToolTip(obj.getDocumentationOfProperty(prop))
@@ -326,7 +327,7 @@ class OperationPage(_base.TaskPanelPage):
     def updateData(self, obj, prop):
         if prop in ("Base", "ToolController"):
             self.validate()
-        elif obj.getGroupOfProperty(prop) == CERTIFICATE_GROUP:
+        elif prop in self.output_names():
             self.show_certificate()
 
     def resetToolController(self, job, tc):
@@ -396,12 +397,16 @@ class OperationPage(_base.TaskPanelPage):
         self._label("validation").setText("".join(lines))
         return self.messages
 
+    def output_names(self):
+        """The op's read-only outputs (its OUTPUTS rows, all in
+        op_base.OUTPUT_GROUP), in their order."""
+        rows = getattr(self.obj.Proxy, "OUTPUTS", ())
+        return [row[1] for row in rows if hasattr(self.obj, row[1])]
+
     def show_certificate(self):
         rows = []
         computed = False
-        for prop in self.obj.PropertiesList:
-            if self.obj.getGroupOfProperty(prop) != CERTIFICATE_GROUP:
-                continue
+        for prop in self.output_names():
             value = getattr(self.obj, prop)
             shown = value.UserString if hasattr(value, "UserString") else str(value)
             computed = computed or bool(getattr(value, "Value", value))
@@ -410,15 +415,19 @@ class OperationPage(_base.TaskPanelPage):
         if not rows:
             label.setText("")
         elif not computed:
-            label.setText("<i>Certificate: not computed yet.</i>")
+            label.setText("<i>%s</i>" % _html(translate("IsoCAM", "Certificate: not computed yet.")))
         else:
-            label.setText("<b>Certificate</b><table>%s</table>" % "".join(rows))
+            label.setText(
+                "<b>%s</b><table>%s</table>"
+                % (_html(translate("IsoCAM", "Certificate")), "".join(rows))
+            )
 
     def show_cancelled(self):
-        self.notice = (
+        self.notice = translate(
+            "IsoCAM",
             "Computation cancelled: the operation keeps its previous path. "
             "Change the inputs and press OK or Apply again, or Cancel to "
-            "discard the changes."
+            "discard the changes.",
         )
         self.validate()
 

@@ -7,10 +7,12 @@ from the operation's row (freecad_ext.operations) and saves only the row's
 name with the document, so a file opens wherever IsoCAM is installed.
 """
 
-import FreeCAD
 import FreeCADGui
 
 from freecad_ext import compat, operations
+from freecad_ext.compat import translate
+
+log = compat.logger(__name__)
 
 _base = compat.gui().OpGui
 
@@ -146,9 +148,7 @@ class ViewProvider(_base.ViewProvider):
         vobj = vobj or self.vobj
         spec = self.spec
         if spec is None:
-            FreeCAD.Console.PrintError(
-                "IsoCAM: no operation named %s is installed\n" % self.OpName
-            )
+            log.error(translate("IsoCAM", "no operation named %s is installed") % self.OpName)
             return False
         page = self.getTaskPanelOpPage(vobj.Object)
         page.setTitle(spec.menu_text)

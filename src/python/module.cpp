@@ -5,8 +5,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
 
 #include <Standard_Failure.hxx>
 
@@ -71,17 +76,70 @@ PyIsoResult run_adaptive(const std::string& brep, const std::vector<int>& faces,
   return to_python(std::move(r));
 }
 
+// The names a caller of this module sets: the fields of the bound classes
+// (IsoParams.scallop_height, PocketParams.tolerance, ...) and the functions'
+// own arguments (brep, faces, depths, ...), read from the bound module
+// itself (properties of its classes; the signature pybind11 writes as the
+// first line of each function's docstring), so that no list is kept by hand.
+std::set<std::string> argument_names(const py::module_& m) {
+  std::set<std::string> names;
+  const std::regex parameter(R"(([A-Za-z_][A-Za-z0-9_]*)\s*:)");
+  const py::object property = py::module_::import("builtins").attr("property");
+  for (const auto item : m.attr("__dict__").cast<py::dict>()) {
+    const py::object value = py::reinterpret_borrow<py::object>(item.second);
+    if (py::isinstance<py::type>(value)) {
+      for (const auto member : value.attr("__dict__").cast<py::dict>())
+        if (py::isinstance(member.second, property)) names.insert(py::str(member.first));
+    } else if (py::hasattr(value, "__doc__") && PyCallable_Check(value.ptr())) {
+      const py::object doc = value.attr("__doc__");
+      if (doc.is_none()) continue;
+      const std::string text = py::str(doc);
+      const std::string signature = text.substr(0, text.find(')'));
+      const auto open = signature.find('(');
+      if (open == std::string::npos) continue;
+      for (std::sregex_iterator it(signature.begin() + static_cast<std::ptrdiff_t>(open),
+                                   signature.end(), parameter),
+           end;
+           it != end; ++it)
+        names.insert((*it)[1]);
+    }
+  }
+  return names;
+}
+
+// The names of `known` that `message` mentions as whole words, in order:
+// the core's InvalidArgument messages name the arguments they are about
+// (isocam/errors.h), e.g. "chord_tolerance (...) does not fit
+// overcut_tolerance (...)".
+py::tuple arguments_named(const std::string& message, const std::set<std::string>& known) {
+  const std::regex word(R"([A-Za-z_][A-Za-z0-9_]*)");
+  std::vector<std::string> found;
+  for (std::sregex_iterator it(message.begin(), message.end(), word), end; it != end; ++it) {
+    const std::string name = it->str();
+    if (known.count(name) && std::find(found.begin(), found.end(), name) == found.end())
+      found.push_back(name);
+  }
+  return py::cast(found);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(isocam_core, m) {
   m.doc() = "IsoCAM core: adaptive isocurve finishing (Elber & Cohen) for ball-end tools";
 
   static py::exception<Cancelled> cancelled(m, "CancelledError", PyExc_RuntimeError);
+  // InvalidArgument -> InvalidArgumentError, a ValueError whose `arguments`
+  // are the names (fields of the parameter classes, arguments of the
+  // functions) its message is about, for a caller to map to its own inputs.
+  static py::exception<InvalidArgument> invalid(m, "InvalidArgumentError", PyExc_ValueError);
+  static std::set<std::string> known;  // filled once the module is bound
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InvalidArgument& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      py::object error = py::handle(invalid.ptr())(e.what());
+      error.attr("arguments") = arguments_named(e.what(), known);
+      PyErr_SetObject(invalid.ptr(), error.ptr());
     } catch (const Cancelled& e) {
       // The C API call, not cancelled(e.what()): pybind11 2.12 deprecates
       // that call operator, and its replacement py::set_error is not in 2.10.
@@ -191,4 +249,5 @@ PYBIND11_MODULE(isocam_core, m) {
       "Raises ValueError for bad arguments, RuntimeError for geometry failures,\n"
       "CancelledError when progress.cancel() was called.");
   bind_pocketing(m);
+  known = argument_names(m);
 }

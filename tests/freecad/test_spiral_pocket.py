@@ -130,6 +130,26 @@ class SpiralPocketJobTest(unittest.TestCase):
         for a, b in zip(xyz[2:-1].tolist(), res.xyz.tolist()):
             for u, v in zip(a, b):
                 self.assertAlmostEqual(u, v, delta=1e-9)
+        # Feeds by FreeCAD's setFeedRate, which on this path gives what the
+        # core's move kinds say (the posted G-code of the kinds): plunges at
+        # VertFeed, every other cutting move at HorizFeed; G0 gets the tool
+        # controller's rapid rate (not posted by linuxcnc).
+        tc = op.ToolController
+        horiz, vert = tc.HorizFeed.Value, tc.VertFeed.Value
+        self.assertNotEqual(horiz, vert)
+        moves = [c for c in op.Path.Commands if c.Name in ("G0", "G1", "G2", "G3")]
+        rapids = (tc.HorizRapid.Value, tc.VertRapid.Value)
+        plunges = 0
+        for command, k in zip(moves[2:-1], res.kind.tolist()):
+            feed = command.Parameters["F"]
+            if k == self.core.RAPID:
+                self.assertIn(feed, rapids)
+            elif k == self.core.PLUNGE:
+                self.assertEqual(feed, vert)
+                plunges += 1
+            else:
+                self.assertEqual(feed, horiz, command.toGCode())
+        self.assertGreater(plunges, 0)
 
     def test_pocket_clears_the_islands_and_the_whole_floor(self):
         kind, xyz, centre = pocket_glue.arrays_from_path(self.setup.pocket.Path)

@@ -95,15 +95,31 @@ class Binding(unittest.TestCase):
             (dict(safe_z=-50.0), "safe_z"),
         ]
         for kw, needle in cases:
-            with self.assertRaises(ValueError) as ctx:
+            with self.assertRaises(core.InvalidArgumentError) as ctx:
                 core.adaptive_isocurve(self.mat, [0], params(**kw))
+            self.assertIsInstance(ctx.exception, ValueError)
             self.assertIn(needle, str(ctx.exception))
+            self.assertEqual(ctx.exception.arguments[0], needle)
         with self.assertRaisesRegex(ValueError, "out of range"):
             core.adaptive_isocurve(self.mat, [3], params())
         with self.assertRaisesRegex(ValueError, "brep"):
             core.adaptive_isocurve("", [0], params())
         with self.assertRaisesRegex(ValueError, "brep"):
             core.adaptive_isocurve("not a brep at all", [0], params())
+
+    def test_invalid_argument_error_names_the_arguments_it_is_about(self):
+        # Whole names of the module's parameters and arguments, in the
+        # message's order; words of the text that are none are not listed.
+        with self.assertRaises(core.InvalidArgumentError) as ctx:
+            core.adaptive_isocurve(self.mat, [0], params(chord_tolerance=0.01))
+        self.assertEqual(ctx.exception.arguments[:2], ("chord_tolerance", "overcut_tolerance"))
+        self.assertNotIn("tolerance", ctx.exception.arguments)
+        with self.assertRaises(core.InvalidArgumentError) as ctx:
+            core.adaptive_isocurve(self.mat, [3], params())
+        self.assertEqual(ctx.exception.arguments, ("faces",))
+        with self.assertRaises(core.InvalidArgumentError) as ctx:
+            core.adaptive_isocurve(self.mat, [0], params(max_moves=10.0))
+        self.assertIn("max_moves", ctx.exception.arguments)
 
     def test_recursion_guard_is_a_runtime_error(self):
         with self.assertRaisesRegex(RuntimeError, "max_depth"):

@@ -30,6 +30,7 @@ NEW_LAYOUT = {
     "PathSetupSheet": "Path.Base.SetupSheet",
     "PathJob": "Path.Main.Job",
     "PathToolController": "Path.Tool.Controller",
+    "PathFeedRate": "Path.Base.FeedRate",
 }
 NEW_GUI = {
     "OpGui": "Path.Op.Gui.Base",
@@ -49,6 +50,7 @@ OLD_LAYOUT = {
     "PathSetupSheet": "PathScripts.PathSetupSheet",
     "PathJob": "PathScripts.PathJob",
     "PathToolController": "PathScripts.PathToolController",
+    "PathFeedRate": "PathFeedRate",
 }
 OLD_GUI = {
     "OpGui": "PathScripts.PathOpGui",
@@ -80,9 +82,9 @@ class FakeLayout:
     """Writes `modules` (dotted names) as packages under a temporary folder,
     puts it first on sys.path and imports freecad_ext.compat afresh."""
 
-    OWNED = ("FreeCAD", "Path", "PathScripts", "freecad_ext")
+    OWNED = ("FreeCAD", "Path", "PathScripts", "PathFeedRate", "freecad_ext")
 
-    def __init__(self, version, modules, plain_path_module=False, broken=()):
+    def __init__(self, version, modules, plain_path_module=False, broken=(), bodies=None):
         self.root = tempfile.mkdtemp(prefix="isocam-fake-freecad-")
         self._write("FreeCAD.py", FAKE_FREECAD % (list(version),))
         if plain_path_module:  # FreeCAD 0.20: Path is a compiled module
@@ -96,6 +98,7 @@ class FakeLayout:
             body = "LAYOUT_MARK = %r\n" % name
             if name in broken:  # exists, but its own import fails
                 body += "import a_dependency_that_is_missing\n"
+            body += textwrap.dedent((bodies or {}).get(name, ""))
             self._write(os.path.join(*parts) + ".py", body)
 
     def _write(self, relative, text):
@@ -186,6 +189,78 @@ class CompatLayouts(unittest.TestCase):
         with FakeLayout(["0", "20", "2"], []) as compat:
             with self.assertRaisesRegex(ImportError, "Path .CAM. workbench"):
                 compat.PathJob
+
+
+# Path.Log as FreeCAD 0.20 - 1.1 have it (module functions, _log taking the
+# module), and as FreeCAD's sources have it since (a logger per module).
+FUNCTIONS_LOG = """
+class Level:
+    ERROR, WARNING, NOTICE, INFO, DEBUG = 0, 1, 2, 3, 4
+levels, lines = {}, []
+def setLevel(level, module=None):
+    levels[module] = level
+def _log(level, module_line_func, msg):
+    if levels.get(module_line_func[0], Level.NOTICE) >= level:
+        lines.append((module_line_func[0], level, msg))
+"""
+LOGGERS_LOG = FUNCTIONS_LOG + """
+class _Logger:
+    def __init__(self, module):
+        self.module = module
+    def warning(self, fmt, *args):
+        lines.append((self.module, Level.WARNING, fmt.format(*args)))
+    def info(self, fmt, *args):
+        if levels.get(self.module, Level.NOTICE) >= Level.INFO:
+            lines.append((self.module, Level.INFO, fmt.format(*args)))
+    def debug(self, fmt, *args):
+        if levels.get(self.module, Level.NOTICE) >= Level.DEBUG:
+            lines.append((self.module, Level.DEBUG, fmt.format(*args)))
+def getModuleLogger(module):
+    return _Logger(module)
+"""
+
+
+class TranslationAndLog(unittest.TestCase):
+    def test_translate_and_the_marker_without_qt(self):
+        with FakeLayout(["0", "20", "2"], []) as compat:
+            self.assertEqual(compat.translate("IsoCAM", "a {text}"), "a {text}")
+            self.assertEqual(compat.QT_TRANSLATE_NOOP("App::Property", "tip"), "tip")
+
+    def test_translate_uses_freecads_translator(self):
+        with FakeLayout(["1", "0", "0"], []) as compat:
+            import FreeCAD
+
+            class Qt:
+                @staticmethod
+                def translate(context, text):
+                    return "%s|%s" % (context, text)
+
+            FreeCAD.Qt = Qt
+            self.assertEqual(compat.translate("IsoCAM", "a text"), "IsoCAM|a text")
+
+    def check_module_log(self, body):
+        layout = dict(NEW_LAYOUT)
+        with FakeLayout(["1", "0", "0"], layout.values(), bodies={"Path.Log": body}) as compat:
+            log = compat.logger("freecad_ext.adaptive_isocurve")
+            self.assertEqual(sys.modules.get("Path.Log"), None)  # not yet imported
+            log.warning("a {brace} 100 %")
+            log.info("certificate")
+            log.debug("not shown at INFO")
+            path_log = sys.modules["Path.Log"]
+            self.assertEqual(path_log.levels["adaptive_isocurve"], path_log.Level.INFO)
+            self.assertEqual(
+                path_log.lines,
+                [
+                    ("adaptive_isocurve", path_log.Level.WARNING, "a {brace} 100 %"),
+                    ("adaptive_isocurve", path_log.Level.INFO, "certificate"),
+                ],
+            )
+
+    def test_one_logger_per_module_through_path_log_functions(self):
+        self.check_module_log(FUNCTIONS_LOG)
+
+    def test_one_logger_per_module_through_path_log_loggers(self):
+        self.check_module_log(LOGGERS_LOG)
 
 
 class _Tool:

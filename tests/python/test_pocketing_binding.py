@@ -125,6 +125,13 @@ class PocketBinding(unittest.TestCase):
             with self.assertRaises(ValueError) as ctx:
                 call()
             self.assertIn(needle, str(ctx.exception))
+            # The core's errors name the argument for the caller's mapping.
+            if isinstance(ctx.exception, core.InvalidArgumentError):
+                self.assertIn(needle, ctx.exception.arguments)
+        # "tolerance" as a whole word only: not in "floor_tolerance".
+        with self.assertRaises(core.InvalidArgumentError) as ctx:
+            core.spiral_pocket(BOUNDARY, [], params(tolerance=0), [0.0])
+        self.assertEqual(ctx.exception.arguments[0], "tolerance")
 
     def test_cancel_and_progress_with_the_gil_released(self):
         progress = core.Progress()
