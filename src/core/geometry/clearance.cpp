@@ -402,44 +402,69 @@ double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp
 
 }  // namespace
 
-std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
-                                            std::uint32_t mask, double d, Witness* witness) const {
-  const int pu = patch.pu, pv = patch.pv;
-  const int n = (pu + 1) * (pv + 1);
-  const std::size_t sz = static_cast<std::size_t>(n);
-  const double d2 = d * d, keep = d - eps_;
-  auto dist2 = [&](const gp_XYZ& q, std::uint32_t bit) {
+// One patch_blocked() query: the patch's pieces on the thread's work stack
+// (the patch's whole net first) and the segments found blocked so far. The
+// member functions are its phases, called in order by patch_blocked() for
+// each piece popped.
+struct ClearanceModel::PatchQuery {
+  const Patch& patch;
+  const Segment* segs;
+  double d2, keep;
+  Witness* witness;
+  std::size_t sz;  // control points per piece
+  Work& w = work();
+  std::uint32_t hit = 0;              // segments shown blocked
+  std::array<H4, kMaxNet> c;          // the current piece's net
+  std::array<gp_Pnt, kMaxNet> pts;    // and its points in space
+  gp_Pnt corners[4];                  // its corners (points of the surface)
+
+  PatchQuery(const ClearanceModel& model, const Patch& p, const Segment* s, std::uint32_t mask,
+             double d, Witness* wit)
+      : patch(p), segs(s), d2(d * d), keep(d - model.eps_), witness(wit),
+        sz(static_cast<std::size_t>((p.pu + 1) * (p.pv + 1))) {
+    w.pieces.clear();
+    w.cps.assign(model.cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
+                 model.cps_.begin() + static_cast<std::ptrdiff_t>(patch.first + sz));
+    w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr, mask});
+  }
+
+  // The squared distance from q to the segment of bit `bit`.
+  double dist2(const gp_XYZ& q, std::uint32_t bit) const {
     const Segment& s = segs[__builtin_ctz(bit)];
     return squared_point_segment_distance(q, s.a.XYZ(), s.ab, s.ab2);
-  };
-  Work& w = work();
-  w.pieces.clear();
-  w.cps.assign(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
-               cps_.begin() + static_cast<std::ptrdiff_t>(patch.first + sz));
-  w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr, mask});
-  std::array<H4, kMaxNet> c;
-  std::array<gp_Pnt, kMaxNet> pts;
-  std::uint32_t hit = 0;
-  // Segments that cannot be decided within this many pieces (each) count as
-  // blocked: slow cases cost some path, never a gouge.
-  int budget = 4000 * __builtin_popcount(mask);
-  while (!w.pieces.empty() && (mask & ~hit)) {
-    Piece piece = w.pieces.back();
+  }
+
+  // Pops the top piece into `piece` and its net into c; false when none is
+  // left.
+  bool pop(Piece& piece) {
+    if (w.pieces.empty()) return false;
+    piece = w.pieces.back();
     w.pieces.pop_back();
     std::copy(w.cps.begin() + static_cast<std::ptrdiff_t>(piece.first), w.cps.end(), c.begin());
     w.cps.resize(piece.first);
-    std::uint32_t m = piece.mask & ~hit;
-    if (!m) continue;
-    if (--budget < 0) {
-      hit |= m;
-      for (const Piece& rest : w.pieces) hit |= rest.mask;
-      break;
-    }
-    if (!piece.inside) {
-      const int state = patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
-      if (state < 0) continue;  // this piece is outside the face
-      piece.inside = state > 0;
-    }
+    return true;
+  }
+
+  // Out of budget: `m` and every segment a piece still on the stack is near
+  // count as blocked (slow cases cost some path, never a gouge).
+  void give_up(std::uint32_t m) {
+    hit |= m;
+    for (const Piece& rest : w.pieces) hit |= rest.mask;
+  }
+
+  // False if the piece lies outside the face; otherwise records whether it
+  // lies wholly inside (then its points need no further trim test).
+  bool on_face(Piece& piece) const {
+    if (piece.inside) return true;
+    const int state = patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
+    if (state < 0) return false;
+    piece.inside = state > 0;
+    return true;
+  }
+
+  // The piece's control points in space (pts) and its corners.
+  void load_points() {
+    const int pu = patch.pu, pv = patch.pv;
     // A polynomial net keeps w = 1 exactly under subdivision (averages of
     // ones): no division needed.
     if (patch.rational) {
@@ -447,10 +472,17 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     } else {
       for (std::size_t k = 0; k < sz; ++k) pts[k].SetCoord(c[k].x, c[k].y, c[k].z);
     }
-    // A witness: the piece's corners are points of the surface (and, on a
-    // trimmed face, must be points of the face).
-    const gp_Pnt corners[4] = {pts[0], pts[static_cast<std::size_t>(pu)],
-                               pts[static_cast<std::size_t>((pu + 1) * pv)], pts[sz - 1]};
+    corners[0] = pts[0];
+    corners[1] = pts[static_cast<std::size_t>(pu)];
+    corners[2] = pts[static_cast<std::size_t>((pu + 1) * pv)];
+    corners[3] = pts[sz - 1];
+  }
+
+  // Witnesses: a corner of the piece is a point of the surface (and, on a
+  // trimmed face, must be a point of the face); every segment of `m` closer
+  // than d to one is blocked (added to hit, the last such corner given as
+  // the witness). Returns the segments of `m` still undecided.
+  std::uint32_t corner_witnesses(const Piece& piece, std::uint32_t m) {
     const double cu[4] = {piece.u0, piece.u1, piece.u0, piece.u1};
     const double cv[4] = {piece.v0, piece.v0, piece.v1, piece.v1};
     for (int k = 0; k < 4 && m; ++k) {
@@ -464,25 +496,24 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
       }
       m &= ~hit;
     }
-    if (!m) continue;
-    const Obb box(pts.data(), n, corners);
+    return m;
+  }
+
+  // The segments of `m` not provably beyond d - eps of the piece's oriented
+  // box (a frame from its corners, so a nearly flat piece gets a thin box).
+  std::uint32_t near_box(const Obb& box, std::uint32_t m) const {
     for (std::uint32_t b = m; b; b &= b - 1) {
       const Segment& s = segs[__builtin_ctz(b)];
       if (segment_box_beyond(box.local(s.a), box.local(s.b), box.lo, box.hi, keep)) m &= ~(b & -b);
     }
-    if (!m) continue;
-    // A piece this small with no corner closer than d has no point closer
-    // than d - eps (its box's diagonal is under eps).
-    if (box.extent() * 1.7320508075688772 <= eps_) continue;
-    // Subdivision that does not shrink the box (it should): not proved.
-    if (piece.depth > 60) {
-      hit |= m;
-      continue;
-    }
-    // Split across the longer parametric direction of the control net. The
-    // half on the side of the corner nearer the (first) segment goes on top,
-    // so that a witness, if any, is met early (the answers do not depend on
-    // the order, only the work).
+    return m;
+  }
+
+  // Splits the piece across the longer parametric direction of its control
+  // net and pushes both halves, near `m`. The half on the side of the corner
+  // nearer the (first) segment goes on top, so that a witness, if any, is
+  // met early (the answers do not depend on the order, only the work).
+  void push_halves(const Piece& piece, std::uint32_t m) {
     const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     const bool along_u = lu >= lv;
@@ -490,7 +521,7 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     w.cps.resize(at + 2 * sz);
     const bool low_nearer = dist2(corners[0].XYZ(), m & -m) <= dist2(corners[3].XYZ(), m & -m);
     H4* bottom = w.cps.data() + at;
-    split_net(c.data(), pu, pv, along_u, low_nearer ? bottom + sz : bottom,
+    split_net(c.data(), patch.pu, patch.pv, along_u, low_nearer ? bottom + sz : bottom,
               low_nearer ? bottom : bottom + sz);
     Piece lo = piece, hi = piece;
     lo.depth = hi.depth = piece.depth + 1;
@@ -507,7 +538,43 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     w.pieces.push_back(below);
     w.pieces.push_back(above);
   }
-  return hit;
+};
+
+// Subdivides the patch depth first until each segment of `mask` is decided:
+// blocked by a corner witness, or clear because every piece near it is
+// outside the face, provably beyond d - eps, or smaller than eps across.
+std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
+                                            std::uint32_t mask, double d, Witness* witness) const {
+  PatchQuery q(*this, patch, segs, mask, d, witness);
+  // Segments that cannot be decided within this many pieces (each) count as
+  // blocked: slow cases cost some path, never a gouge.
+  int budget = 4000 * __builtin_popcount(mask);
+  Piece piece{};
+  while ((mask & ~q.hit) && q.pop(piece)) {
+    std::uint32_t m = piece.mask & ~q.hit;
+    if (!m) continue;
+    if (--budget < 0) {
+      q.give_up(m);
+      break;
+    }
+    if (!q.on_face(piece)) continue;
+    q.load_points();
+    m = q.corner_witnesses(piece, m);
+    if (!m) continue;
+    const Obb box(q.pts.data(), static_cast<int>(q.sz), q.corners);
+    m = q.near_box(box, m);
+    if (!m) continue;
+    // A piece this small with no corner closer than d has no point closer
+    // than d - eps (its box's diagonal is under eps).
+    if (box.extent() * 1.7320508075688772 <= eps_) continue;
+    // Subdivision that does not shrink the box (it should): not proved.
+    if (piece.depth > 60) {
+      q.hit |= m;
+      continue;
+    }
+    q.push_halves(piece, m);
+  }
+  return q.hit;
 }
 
 double ClearanceModel::local_distance(const gp_Pnt& q, Witness* w) {

@@ -111,6 +111,7 @@ class ClearanceModel {
   std::uint32_t blocked(const Segment* segs, int count, double d, Witness* witness) const;
   std::uint32_t patch_blocked(const Patch& p, const Segment* segs, std::uint32_t mask, double d,
                               Witness* witness) const;
+  struct PatchQuery;  // patch_blocked()'s state and phases (clearance.cpp)
 
   double eps_, max_piece_;
   std::vector<H4> cps_;
