@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <gp_Vec.hxx>
@@ -12,6 +13,42 @@
 namespace isocam {
 
 constexpr int kMaxNet = 100;  // control points per patch: degree 9 x 9, 2 x 32, ...
+
+// The budgets of the queries, each with what bounds it.
+//
+// Segments asked about at once by blocked() and patch_blocked(): one bit
+// each of a std::uint32_t mask.
+constexpr int kBatch = 32;
+// blocked() walks the hierarchy with a fixed stack: each step pops one node
+// and pushes at most its two children, so a walk needs at most depth + 1
+// entries. The tree is split at medians (balanced, depth about
+// log2(patches / 4)); 128 entries would take some 2^127 patches, so a
+// deeper tree is a bug, reported as "hierarchy too deep", not an overflow.
+constexpr std::size_t kWalkStack = 128;
+// add_piece() stores a piece split while it is larger than max_piece, at
+// most this many halvings deep (65536 pieces from one patch): a guard for a
+// net whose box does not shrink under subdivision (a degenerate patch), not
+// a limit that ordinary patches meet (a halving per level shrinks a 100 mm
+// patch to max_piece = 2 mm in about 12 levels).
+constexpr int kMaxStoredSplits = 16;
+// patch_blocked() examines at most this many pieces per segment asked
+// about; a segment still undecided then counts as blocked (it costs some
+// path, never a gouge). This bounds the time of one query; the queries that
+// reach it are segments grazing the surface at about d, where the band eps
+// between "clear" and "blocked" is thin against the pieces' size.
+constexpr int kPiecesPerSegment = 4000;
+// A piece this many halvings below its patch that is still undecided counts
+// as blocked. The split takes the longer direction, so each parameter has
+// been halved about 30 times: a box that subdivision shrinks (it must, the
+// net converges to the surface) is by then a billionth of the patch across,
+// under eps for any patch below eps * 1e9 (100 km at eps = 1e-4). A piece
+// undecided there comes from a degenerate net, not from a slow case.
+constexpr int kMaxPieceSplits = 60;
+// A box whose longest side is e has its diagonal under e sqrt(3).
+constexpr double kSqrt3 = 1.7320508075688772;
+// The start of a running minimum or of an empty box's bounds: any value
+// replaces it.
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A control net being subdivided (fixed storage: no allocation per piece).
 struct ClearanceModel::Net {
@@ -49,7 +86,7 @@ void split(const Net& n, bool along_u, Net& l, Net& r) {
 // (so a nearly flat piece of surface gets a thin box).
 struct Obb {
   gp_XYZ axes[3] = {gp_XYZ(1, 0, 0), gp_XYZ(0, 1, 0), gp_XYZ(0, 0, 1)};
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
 
   Obb(const gp_Pnt* pts, int n, const gp_Pnt corners[4]) {
     const gp_Vec t1 = gp_Vec(corners[0], corners[1]) + gp_Vec(corners[2], corners[3]);
@@ -96,7 +133,7 @@ double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3]
   ts[n++] = 1.0;
   for (int i = 1; i < n; ++i)  // insertion sort of at most 8 values
     for (int j = i; j > 0 && ts[j - 1] > ts[j]; --j) std::swap(ts[j - 1], ts[j]);
-  double best = 1e300;
+  double best = kInf;
   for (int i = 0; i + 1 < n; ++i) {
     const double t0 = ts[i], t1 = ts[i + 1], tm = 0.5 * (t0 + t1);
     // Excess on each axis is alpha + beta t on this piece.
@@ -179,10 +216,10 @@ void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
 }
 
 void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim) {
-  int state = 1;
+  TrimDomain::RectClass state = TrimDomain::RectClass::Inside;
   if (trim) {
     state = trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
-    if (state < 0) return;  // no part of the face here
+    if (state == TrimDomain::RectClass::Outside) return;  // no part of the face here
   }
   const int n = net.size();
   std::array<gp_Pnt, kMaxNet> pts;
@@ -196,7 +233,7 @@ void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const Trim
   const Obb obb(pts.data(), n, corners);
   // Large pieces are stored split (to about max_piece_), so that a query
   // starts from pieces whose oriented boxes are already tight.
-  if (obb.extent() > max_piece_ && net.depth < 16) {
+  if (obb.extent() > max_piece_ && net.depth < kMaxStoredSplits) {
     const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     Net left, right;
@@ -212,9 +249,8 @@ void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const Trim
   p.u1 = net.u1;
   p.v0 = net.v0;
   p.v1 = net.v1;
-  p.state = state;
   for (int k = 0; k < n && !p.rational; ++k) p.rational = net.c[static_cast<std::size_t>(k)].w != 1.0;
-  p.trim = state == 0 ? trim : nullptr;
+  p.trim = state == TrimDomain::RectClass::Boundary ? trim : nullptr;
   p.grid = &grid;
   p.first = cps_.size();
   cps_.insert(cps_.end(), net.c.begin(), net.c.begin() + n);
@@ -280,9 +316,9 @@ bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* 
 }
 
 void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, char* out) const {
-  std::array<Segment, 32> segs;
-  for (std::size_t first = 0; first + 1 < n; first += 32) {
-    const int count = static_cast<int>(std::min<std::size_t>(32, n - 1 - first));
+  std::array<Segment, kBatch> segs;
+  for (std::size_t first = 0; first + 1 < n; first += kBatch) {
+    const int count = static_cast<int>(std::min<std::size_t>(kBatch, n - 1 - first));
     for (int k = 0; k < count; ++k) segs[static_cast<std::size_t>(k)] = Segment(pts[first + k], pts[first + k + 1]);
     const std::uint32_t hit = blocked(segs.data(), count, d, nullptr);
     for (int k = 0; k < count; ++k) out[first + static_cast<std::size_t>(k)] = !(hit >> k & 1u);
@@ -292,7 +328,7 @@ void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, 
 std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
                                       Witness* witness) const {
   if (nodes_.empty() || count == 0) return 0;
-  const std::uint32_t all = count == 32 ? ~0u : (1u << count) - 1u;
+  const std::uint32_t all = count == kBatch ? ~0u : (1u << count) - 1u;
   const double keep = d - eps_;  // what a box must be beyond to be passed
   // The segments of `mask` that are not beyond the box.
   auto near = [&](std::uint32_t mask, const double lo[3], const double hi[3]) {
@@ -307,7 +343,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
   // pieces that would be examined for a segment is fixed), but a query that
   // is not clear usually stops at its first node. The tree is balanced, so
   // its depth is about log2(patches / 4).
-  std::array<std::pair<int, std::uint32_t>, 128> stack;
+  std::array<std::pair<int, std::uint32_t>, kWalkStack> stack;
   std::size_t top = 0;
   std::uint32_t hit = 0;
   const std::uint32_t root = near(all, nodes_[0].box.lo, nodes_[0].box.hi);
@@ -456,9 +492,10 @@ struct ClearanceModel::PatchQuery {
   // lies wholly inside (then its points need no further trim test).
   bool on_face(Piece& piece) const {
     if (piece.inside) return true;
-    const int state = patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
-    if (state < 0) return false;
-    piece.inside = state > 0;
+    const TrimDomain::RectClass state =
+        patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
+    if (state == TrimDomain::RectClass::Outside) return false;
+    piece.inside = state == TrimDomain::RectClass::Inside;
     return true;
   }
 
@@ -546,9 +583,7 @@ struct ClearanceModel::PatchQuery {
 std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
                                             std::uint32_t mask, double d, Witness* witness) const {
   PatchQuery q(*this, patch, segs, mask, d, witness);
-  // Segments that cannot be decided within this many pieces (each) count as
-  // blocked: slow cases cost some path, never a gouge.
-  int budget = 4000 * __builtin_popcount(mask);
+  int budget = kPiecesPerSegment * __builtin_popcount(mask);
   Piece piece{};
   while ((mask & ~q.hit) && q.pop(piece)) {
     std::uint32_t m = piece.mask & ~q.hit;
@@ -566,9 +601,9 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     if (!m) continue;
     // A piece this small with no corner closer than d has no point closer
     // than d - eps (its box's diagonal is under eps).
-    if (box.extent() * 1.7320508075688772 <= eps_) continue;
+    if (box.extent() * kSqrt3 <= eps_) continue;
     // Subdivision that does not shrink the box (it should): not proved.
-    if (piece.depth > 60) {
+    if (piece.depth > kMaxPieceSplits) {
       q.hit |= m;
       continue;
     }
