@@ -8,6 +8,7 @@
 
 #include <gp_Vec.hxx>
 
+#include "bits.h"
 #include "isocam/errors.h"
 
 namespace isocam {
@@ -333,7 +334,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
   // The segments of `mask` that are not beyond the box.
   auto near = [&](std::uint32_t mask, const double lo[3], const double hi[3]) {
     for (std::uint32_t m = mask; m; m &= m - 1) {
-      const Segment& s = segs[__builtin_ctz(m)];
+      const Segment& s = segs[lowest_bit(m)];
       if (segment_box_beyond(s.a, s.b, lo, hi, keep)) mask &= ~(m & -m);
     }
     return mask;
@@ -360,7 +361,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
       const std::uint32_t near_l = near(mask, l.box.lo, l.box.hi);
       const std::uint32_t near_r = near(mask, r.box.lo, r.box.hi);
       if (top + 2 > stack.size()) throw GeometryError("clearance: hierarchy too deep");
-      const Segment& s = segs[__builtin_ctz(mask)];
+      const Segment& s = segs[lowest_bit(mask)];
       const bool left_first = segment_box_bound2(s.a, s.b, l.box.lo, l.box.hi) <=
                               segment_box_bound2(s.a, s.b, r.box.lo, r.box.hi);
       if (left_first ? near_r : near_l) stack[top++] = {left_first ? n.right : n.left, left_first ? near_r : near_l};
@@ -371,7 +372,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
       const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
       std::uint32_t m = near(mask & ~hit, p.box.lo, p.box.hi);
       for (std::uint32_t b = m; b; b &= b - 1) {
-        const Segment& s = segs[__builtin_ctz(b)];
+        const Segment& s = segs[lowest_bit(b)];
         auto local = [&p](const gp_Pnt& q) {
           return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
         };
@@ -466,7 +467,7 @@ struct ClearanceModel::PatchQuery {
 
   // The squared distance from q to the segment of bit `bit`.
   double dist2(const gp_XYZ& q, std::uint32_t bit) const {
-    const Segment& s = segs[__builtin_ctz(bit)];
+    const Segment& s = segs[lowest_bit(bit)];
     return squared_point_segment_distance(q, s.a.XYZ(), s.ab, s.ab2);
   }
 
@@ -540,7 +541,7 @@ struct ClearanceModel::PatchQuery {
   // box (a frame from its corners, so a nearly flat piece gets a thin box).
   std::uint32_t near_box(const Obb& box, std::uint32_t m) const {
     for (std::uint32_t b = m; b; b &= b - 1) {
-      const Segment& s = segs[__builtin_ctz(b)];
+      const Segment& s = segs[lowest_bit(b)];
       if (segment_box_beyond(box.local(s.a), box.local(s.b), box.lo, box.hi, keep)) m &= ~(b & -b);
     }
     return m;
@@ -583,7 +584,7 @@ struct ClearanceModel::PatchQuery {
 std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
                                             std::uint32_t mask, double d, Witness* witness) const {
   PatchQuery q(*this, patch, segs, mask, d, witness);
-  int budget = kPiecesPerSegment * __builtin_popcount(mask);
+  int budget = kPiecesPerSegment * bit_count(mask);
   Piece piece{};
   while ((mask & ~q.hit) && q.pop(piece)) {
     std::uint32_t m = piece.mask & ~q.hit;
