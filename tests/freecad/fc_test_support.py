@@ -31,6 +31,7 @@ class JobSetup:
         self.model = self.doc.addObject("Part::Feature", "Model")
         self.model.Shape = load_shape(filename)
         self.job = scripting.make_job(self.model)
+        self.ball_diameter = ball_diameter
         self.ball_tc = scripting.make_ball_end_tool_controller(self.job, ball_diameter)
         self.doc.recompute()
 
@@ -56,6 +57,50 @@ def path_points(path):
         x, y, z = p.get("X", x), p.get("Y", y), p.get("Z", z)
         points.append((c.Name, x, y, z))
     return points
+
+
+# Path coordinates are the core's doubles (the glue converts exactly), and
+# OpenCASCADE's distToShape on a B-spline face converges to about 1e-7 mm:
+# 1e-6 mm is above both and far below any tolerance the op states.
+DISTANCE_TOL = 1e-6  # mm
+
+
+def assert_ball_finishing_invariants(testcase, op, face, ball_radius, samples=60):
+    """What a ball-end finishing op on `face` must give, read from its Path
+    alone (nothing shared with the core):
+
+    - the first move is a rapid straight up to ClearanceHeight, the second a
+      rapid across at that height, the last a rapid back up to it;
+    - there are feed moves (G1), and each one's tip is within the face's box
+      grown by the ball radius in x and y, and never above the face's top;
+    - at `samples` feed moves spread along the path, the ball centre (tip + r)
+      is at least r - OvercutTolerance from the face: the path cuts the
+      design by no more than the overcut the op states.
+    Returns the feed moves [(name, x, y, z)]."""
+    points = path_points(op.Path)
+    clear = op.ClearanceHeight.Value
+    testcase.assertGreaterEqual(len(points), 3)
+    first, second, last = points[0], points[1], points[-1]
+    testcase.assertEqual(first[0], "G0")
+    testcase.assertAlmostEqual(first[3], clear, delta=DISTANCE_TOL)
+    testcase.assertEqual(second[0], "G0")
+    testcase.assertAlmostEqual(second[3], clear, delta=DISTANCE_TOL)
+    testcase.assertEqual(last[0], "G0")
+    testcase.assertAlmostEqual(last[3], clear, delta=DISTANCE_TOL)
+    feeds = [p for p in points if p[0] == "G1"]
+    testcase.assertTrue(feeds, "no feed move")
+    bb, r, tol = face.BoundBox, ball_radius, DISTANCE_TOL
+    for _name, x, y, z in feeds:
+        testcase.assertTrue(bb.XMin - r - tol <= x <= bb.XMax + r + tol, (x, y, z))
+        testcase.assertTrue(bb.YMin - r - tol <= y <= bb.YMax + r + tol, (x, y, z))
+        testcase.assertLessEqual(z, bb.ZMax + tol, (x, y, z))
+    keep = r - op.OvercutTolerance.Value - tol
+    step = max(1, len(feeds) // samples)
+    for _name, x, y, z in feeds[::step]:
+        centre = Part.Vertex(FreeCAD.Vector(x, y, z + r))
+        d = centre.distToShape(face)[0]
+        testcase.assertGreaterEqual(d, keep, (x, y, z))
+    return feeds
 
 
 def assert_motions_end_with(testcase, run, path):

@@ -28,6 +28,8 @@ def stated_bounds(op):
     too, so a certificate that grew past the user's budget fails here."""
     left = op.GuaranteedScallop.Value
     overcut = op.GuaranteedOvercut.Value
+    # 1e-12 mm: the op's properties hold the core's doubles; only the
+    # Quantity round trip may add rounding.
     assert left <= op.ScallopHeight.Value + 1e-12, (left, op.ScallopHeight.Value)
     assert overcut <= op.OvercutTolerance.Value + 1e-12, (overcut, op.OvercutTolerance.Value)
     return left, overcut
@@ -150,6 +152,8 @@ def check_measured(testcase, name, op, result, min_reachable=0.5):
     # its passes and links (CuttingLength) and its fed entries, plunged or
     # ramped along the pass (PlungeLength).
     fed = op.CuttingLength.Value + op.PlungeLength.Value
+    # The sim reads the posted G-code (3 decimals: each move's length off by
+    # up to ~1e-3 mm) and its arcs as chords: 1e-3 relative plus 1 mm.
     testcase.assertAlmostEqual(
         result["lengths"]["feed"], fed, delta=1e-3 * fed + 1
     )

@@ -99,6 +99,9 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
     def test_certificate_matches_the_core(self):
         op = self.op
         m = expected_core_result(op, self.setup.clone).metrics
+        # The op stores the core's doubles in Quantities: equal to rounding.
+        # places=6 on lengths of metres and 9 on tolerances of a few
+        # hundredths of a mm are both about 1e-12 relative.
         self.assertAlmostEqual(op.CuttingLength.Value, m.cutting_length, places=6)
         self.assertAlmostEqual(op.RapidLength.Value, m.rapid_length, places=6)
         self.assertAlmostEqual(op.PlungeLength.Value, m.plunge_length, places=6)
@@ -115,7 +118,8 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         self.assertAlmostEqual(op.ChordToleranceUsed.Value, m.chord_tolerance, places=9)
         self.assertAlmostEqual(op.CuttingTime, m.cutting_time, places=6)
         self.assertIn(op.DirectionUsed, ("U", "V"))
-        # The certificates the op exists for: within the requests.
+        # The certificates the op exists for: within the requests (1e-6 and
+        # 1e-9 relative: rounding of the doubles they are computed in).
         self.assertLessEqual(op.GuaranteedScallop.Value, SCALLOP * (1 + 1e-6))
         self.assertLessEqual(
             op.GuaranteedOvercut.Value, op.OvercutTolerance.Value * (1 + 1e-9)
@@ -138,6 +142,8 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
                 d = sum((u - v) ** 2 for u, v in zip(pos, nxt)) ** 0.5
                 seconds += d / (rapid if c.Name == "G0" else p["F"])
             pos = nxt
+        # 1e-6 relative: the same moves summed here in Python, in another
+        # order; CycleTime below is whole seconds, so 1 s.
         self.assertAlmostEqual(op.MachineTime, seconds, delta=1e-6 * seconds)
         h, m, s = (int(v) for v in op.CycleTime.split(":"))
         self.assertLessEqual(abs(h * 3600 + m * 60 + s - seconds), 1.0)
@@ -151,17 +157,25 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
             op.getPropertyStatus("CuttingLength")[:2], ["ReadOnly", "Output"]
         )
 
-    def test_feed_moves_stay_within_the_face_bounds(self):
-        # A ball of radius r touching the face with its tip at z: the tip is
-        # at most r below the face's lowest point and never above its top.
-        bb = self.setup.clone.Shape.Faces[0].BoundBox
-        r, tol = BALL_DIAMETER / 2, 1e-6
-        feeds = [p for p in support.path_points(self.op.Path) if p[0] == "G1"]
-        self.assertGreater(len(feeds), 1000)
+    def test_feed_moves_stay_on_the_face_and_reach_its_sides(self):
+        # Entry and exit at ClearanceHeight, every feed move within the face's
+        # box and no deeper into the face than OvercutTolerance (the support's
+        # invariants); and a ball of radius r touching the face with its tip
+        # at z has its tip at most r below the face's lowest point.
+        face = self.setup.clone.Shape.Faces[0]
+        bb, r = face.BoundBox, BALL_DIAMETER / 2
+        tol = support.DISTANCE_TOL
+        feeds = support.assert_ball_finishing_invariants(self, self.op, face, r)
         for _name, x, y, z in feeds:
-            self.assertTrue(bb.XMin - r - tol <= x <= bb.XMax + r + tol, (x, y, z))
-            self.assertTrue(bb.YMin - r - tol <= y <= bb.YMax + r + tol, (x, y, z))
-            self.assertTrue(bb.ZMin - r - tol <= z <= bb.ZMax + tol, (x, y, z))
+            self.assertGreaterEqual(z, bb.ZMin - r - tol, (x, y, z))
+        # Every point of the face is touched (Definition 1), those on the
+        # sides of its box too; the tip is within r of the contact point in
+        # x and y, so the tips reach within r of each side.
+        xs, ys = [p[1] for p in feeds], [p[2] for p in feeds]
+        self.assertLessEqual(min(xs), bb.XMin + r + tol)
+        self.assertGreaterEqual(max(xs), bb.XMax - r - tol)
+        self.assertLessEqual(min(ys), bb.YMin + r + tol)
+        self.assertGreaterEqual(max(ys), bb.YMax - r - tol)
 
     def test_user_properties_are_not_rewritten(self):
         op = self.op
@@ -284,6 +298,7 @@ class SetupSheetTest(unittest.TestCase):
         )
         op = make_op(setup)
         self.assertAlmostEqual(op.ScallopHeight.Value, 0.05)
+        # 1e-6 relative: the certificate's rounding, as above.
         self.assertLessEqual(op.GuaranteedScallop.Value, 0.05 * (1 + 1e-6))
 
 

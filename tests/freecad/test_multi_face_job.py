@@ -52,7 +52,8 @@ class MultiFaceJobTest(unittest.TestCase):
 
     def test_certificate(self):
         for op in (self.adaptive, self.uniform):
-            # The scallop promise holds, and the ratio is what it says.
+            # The scallop promise holds, and the ratio is what it says (1e-6
+            # relative and places=9: rounding of doubles, nothing else).
             self.assertLessEqual(op.GuaranteedScallop.Value, SCALLOP * (1 + 1e-6))
             self.assertGreater(op.LowerBoundLength.Value, 0)
             self.assertAlmostEqual(
@@ -82,6 +83,8 @@ class MultiFaceJobTest(unittest.TestCase):
         brep = self.setup.clone.Shape.exportBrepToString()
         params.protect_unpicked_faces = True
         res = core.adaptive_isocurve(brep, list(range(5)), params)
+        # The op stores the core's doubles: places=6 on lengths of metres is
+        # rounding only.
         self.assertAlmostEqual(
             self.some.CuttingLength.Value, res.metrics.cutting_length, places=6
         )

@@ -63,6 +63,8 @@ class PocketJob:
         self.floor_index = next(
             i
             for i, f in enumerate(clone.Shape.Faces)
+            # The floor is built at FLOOR_Z exactly; 1e-6 mm is the bounding
+            # box's margin (OpenCASCADE grows boxes by the tolerance, 1e-7).
             if abs(f.BoundBox.ZMin - FLOOR_Z) < 1e-6
             and abs(f.BoundBox.ZMax - FLOOR_Z) < 1e-6
         )
@@ -129,6 +131,8 @@ class SpiralPocketJobTest(unittest.TestCase):
         self.assertEqual(len(kind) - 3, len(res.kind))
         for a, b in zip(xyz[2:-1].tolist(), res.xyz.tolist()):
             for u, v in zip(a, b):
+                # The glue copies the core's doubles into Path.Commands and
+                # back: 1e-9 mm is rounding of that round trip only.
                 self.assertAlmostEqual(u, v, delta=1e-9)
         # Feeds by FreeCAD's setFeedRate, which on this path gives what the
         # core's move kinds say (the posted G-code of the kinds): plunges at

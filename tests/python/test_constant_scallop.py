@@ -48,6 +48,7 @@ class ConstantScallopOnPlate(unittest.TestCase):
         self.assertIn(res.face_direction[0], ("U", "V"))
         kind, xyz = res.kind, res.xyz
         seg = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
+        # 1e-6 mm: the same segment lengths summed in another order.
         self.assertAlmostEqual(
             seg[kind[1:] == core.FEED].sum(), res.metrics.cutting_length, delta=1e-6
         )
@@ -56,6 +57,8 @@ class ConstantScallopOnPlate(unittest.TestCase):
         m = self.res.metrics
         # Not the intent: on the plate the passes are the flat stepover apart,
         # and next to the holes' wires farther (the clipped pass is missing).
+        # (1 - 1e-6): the measured distance is sampled and computed in
+        # doubles; a pass exactly delta apart may measure a hair under it.
         self.assertGreaterEqual(m.max_iso_distance, m.delta * (1 - 1e-6))
         self.assertGreater(m.guaranteed_scallop, 0.05 * (1 - 1e-6))
         self.assertLess(m.guaranteed_scallop, 3.0)

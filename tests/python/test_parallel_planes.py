@@ -65,6 +65,7 @@ class ParallelPlanesOnMat(unittest.TestCase):
         self.assertGreater(res.metrics.sub_isocurves, 50)
         kind, xyz = res.kind, res.xyz
         seg = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
+        # 1e-6 mm: the same segment lengths summed in another order.
         self.assertAlmostEqual(
             seg[kind[1:] == core.FEED].sum(), res.metrics.cutting_length, delta=1e-6
         )
@@ -76,6 +77,8 @@ class ParallelPlanesOnMat(unittest.TestCase):
         axis = 0 if res.plane_axis == core.IsoPlaneAxis.X else 1
         c = res.xyz[res.kind == core.FEED][:, axis]
         k = (c - c.min()) / res.metrics.delta
+        # 1e-9 mm: each plane is the first plus an integer times delta, in
+        # doubles; nothing but rounding may move a point off its plane.
         self.assertLess(np.abs(k - np.round(k)).max() * res.metrics.delta, 1e-9)
 
     def test_planes_are_too_sparse_on_steep_walls(self):

@@ -259,7 +259,7 @@ class PieceCutter {
   bool inside(const ParamPt& uv) const {
     return transposed_ ? trim_.contains(uv.v, uv.u) : trim_.contains(uv.u, uv.v);
   }
-  int classify(const ParamPt& a, const ParamPt& b) const {
+  TrimDomain::RectClass classify(const ParamPt& a, const ParamPt& b) const {
     const double u0 = std::min(a.u, b.u), u1 = std::max(a.u, b.u);
     const double v0 = std::min(a.v, b.v), v1 = std::max(a.v, b.v);
     return transposed_ ? trim_.classify_rect(v0, v1, u0, u1) : trim_.classify_rect(u0, u1, v0, v1);
@@ -282,17 +282,18 @@ class PieceCutter {
     bool in = inside(pc[0].uv);
     double start = 0.0;
     for (std::size_t k = 0; k + 1 < pc.size(); ++k) {
-      int state = classify(pc[k].uv, pc[k + 1].uv);
+      using RectClass = TrimDomain::RectClass;
+      RectClass state = classify(pc[k].uv, pc[k + 1].uv);
       // An end inside (or the previous run open) contradicts "outside": test it.
-      if (state == -1 && (in || inside(pc[k + 1].uv))) state = 0;
-      if (state == 1 && in) continue;
+      if (state == RectClass::Outside && (in || inside(pc[k + 1].uv))) state = RectClass::Boundary;
+      if (state == RectClass::Inside && in) continue;
       std::vector<double> ts;
-      if (state == 0)
+      if (state == RectClass::Boundary)
         for (int q = 1; q < 8; ++q) ts.push_back(double(k) + q / 8.0);
       ts.push_back(double(k + 1));
       double tp = double(k);
       for (double t : ts) {
-        const bool s = state == -1 ? false : inside(uv_at(pc, t));
+        const bool s = state == RectClass::Outside ? false : inside(uv_at(pc, t));
         if (in && !s) runs.emplace_back(start, boundary(pc, tp, t));
         if (!in && s) start = boundary(pc, t, tp);
         in = s;

@@ -162,7 +162,7 @@ OffsetLattice::OffsetLattice(const PatchGrid& grid, const TrimDomain& trim, doub
       const Strip& su = us_[static_cast<std::size_t>(a)];
       const Strip& sv = vs_[static_cast<std::size_t>(b)];
       used_[static_cast<std::size_t>(a + cells_u() * b)] =
-          trim.classify_rect(su.p0, su.p1, sv.p0, sv.p1) != -1;
+          trim.classify_rect(su.p0, su.p1, sv.p0, sv.p1) != TrimDomain::RectClass::Outside;
     }
 }
 

@@ -146,9 +146,10 @@ class CurveCutter {
       const UV& a = uv_[j];
       const UV& b = uv_[j + 1];
       std::vector<std::pair<double, bool>> samples;
-      const int state = trim_.classify_rect(std::min(a.u, b.u), std::max(a.u, b.u),
-                                            std::min(a.v, b.v), std::max(a.v, b.v));
-      if (state == 0) {
+      const TrimDomain::RectClass state =
+          trim_.classify_rect(std::min(a.u, b.u), std::max(a.u, b.u), std::min(a.v, b.v),
+                              std::max(a.v, b.v));
+      if (state == TrimDomain::RectClass::Boundary) {
         const int m = 8;
         for (int q = 1; q < m; ++q) {
           const double t = t_[j] + (t_[j + 1] - t_[j]) * q / m;

@@ -3,15 +3,53 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <gp_Vec.hxx>
 
+#include "bits.h"
 #include "isocam/errors.h"
 
 namespace isocam {
 
 constexpr int kMaxNet = 100;  // control points per patch: degree 9 x 9, 2 x 32, ...
+
+// The budgets of the queries, each with what bounds it.
+//
+// Segments asked about at once by blocked() and patch_blocked(): one bit
+// each of a std::uint32_t mask.
+constexpr int kBatch = 32;
+// blocked() walks the hierarchy with a fixed stack: each step pops one node
+// and pushes at most its two children, so a walk needs at most depth + 1
+// entries. The tree is split at medians (balanced, depth about
+// log2(patches / 4)); 128 entries would take some 2^127 patches, so a
+// deeper tree is a bug, reported as "hierarchy too deep", not an overflow.
+constexpr std::size_t kWalkStack = 128;
+// add_piece() stores a piece split while it is larger than max_piece, at
+// most this many halvings deep (65536 pieces from one patch): a guard for a
+// net whose box does not shrink under subdivision (a degenerate patch), not
+// a limit that ordinary patches meet (a halving per level shrinks a 100 mm
+// patch to max_piece = 2 mm in about 12 levels).
+constexpr int kMaxStoredSplits = 16;
+// patch_blocked() examines at most this many pieces per segment asked
+// about; a segment still undecided then counts as blocked (it costs some
+// path, never a gouge). This bounds the time of one query; the queries that
+// reach it are segments grazing the surface at about d, where the band eps
+// between "clear" and "blocked" is thin against the pieces' size.
+constexpr int kPiecesPerSegment = 4000;
+// A piece this many halvings below its patch that is still undecided counts
+// as blocked. The split takes the longer direction, so each parameter has
+// been halved about 30 times: a box that subdivision shrinks (it must, the
+// net converges to the surface) is by then a billionth of the patch across,
+// under eps for any patch below eps * 1e9 (100 km at eps = 1e-4). A piece
+// undecided there comes from a degenerate net, not from a slow case.
+constexpr int kMaxPieceSplits = 60;
+// A box whose longest side is e has its diagonal under e sqrt(3).
+constexpr double kSqrt3 = 1.7320508075688772;
+// The start of a running minimum or of an empty box's bounds: any value
+// replaces it.
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // A control net being subdivided (fixed storage: no allocation per piece).
 struct ClearanceModel::Net {
@@ -49,7 +87,7 @@ void split(const Net& n, bool along_u, Net& l, Net& r) {
 // (so a nearly flat piece of surface gets a thin box).
 struct Obb {
   gp_XYZ axes[3] = {gp_XYZ(1, 0, 0), gp_XYZ(0, 1, 0), gp_XYZ(0, 0, 1)};
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
 
   Obb(const gp_Pnt* pts, int n, const gp_Pnt corners[4]) {
     const gp_Vec t1 = gp_Vec(corners[0], corners[1]) + gp_Vec(corners[2], corners[3]);
@@ -96,7 +134,7 @@ double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3]
   ts[n++] = 1.0;
   for (int i = 1; i < n; ++i)  // insertion sort of at most 8 values
     for (int j = i; j > 0 && ts[j - 1] > ts[j]; --j) std::swap(ts[j - 1], ts[j]);
-  double best = 1e300;
+  double best = kInf;
   for (int i = 0; i + 1 < n; ++i) {
     const double t0 = ts[i], t1 = ts[i + 1], tm = 0.5 * (t0 + t1);
     // Excess on each axis is alpha + beta t on this piece.
@@ -179,10 +217,10 @@ void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
 }
 
 void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim) {
-  int state = 1;
+  TrimDomain::RectClass state = TrimDomain::RectClass::Inside;
   if (trim) {
     state = trim->classify_rect(net.u0, net.u1, net.v0, net.v1);
-    if (state < 0) return;  // no part of the face here
+    if (state == TrimDomain::RectClass::Outside) return;  // no part of the face here
   }
   const int n = net.size();
   std::array<gp_Pnt, kMaxNet> pts;
@@ -196,7 +234,7 @@ void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const Trim
   const Obb obb(pts.data(), n, corners);
   // Large pieces are stored split (to about max_piece_), so that a query
   // starts from pieces whose oriented boxes are already tight.
-  if (obb.extent() > max_piece_ && net.depth < 16) {
+  if (obb.extent() > max_piece_ && net.depth < kMaxStoredSplits) {
     const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     Net left, right;
@@ -212,9 +250,8 @@ void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const Trim
   p.u1 = net.u1;
   p.v0 = net.v0;
   p.v1 = net.v1;
-  p.state = state;
   for (int k = 0; k < n && !p.rational; ++k) p.rational = net.c[static_cast<std::size_t>(k)].w != 1.0;
-  p.trim = state == 0 ? trim : nullptr;
+  p.trim = state == TrimDomain::RectClass::Boundary ? trim : nullptr;
   p.grid = &grid;
   p.first = cps_.size();
   cps_.insert(cps_.end(), net.c.begin(), net.c.begin() + n);
@@ -280,9 +317,9 @@ bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* 
 }
 
 void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, char* out) const {
-  std::array<Segment, 32> segs;
-  for (std::size_t first = 0; first + 1 < n; first += 32) {
-    const int count = static_cast<int>(std::min<std::size_t>(32, n - 1 - first));
+  std::array<Segment, kBatch> segs;
+  for (std::size_t first = 0; first + 1 < n; first += kBatch) {
+    const int count = static_cast<int>(std::min<std::size_t>(kBatch, n - 1 - first));
     for (int k = 0; k < count; ++k) segs[static_cast<std::size_t>(k)] = Segment(pts[first + k], pts[first + k + 1]);
     const std::uint32_t hit = blocked(segs.data(), count, d, nullptr);
     for (int k = 0; k < count; ++k) out[first + static_cast<std::size_t>(k)] = !(hit >> k & 1u);
@@ -292,12 +329,12 @@ void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, 
 std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
                                       Witness* witness) const {
   if (nodes_.empty() || count == 0) return 0;
-  const std::uint32_t all = count == 32 ? ~0u : (1u << count) - 1u;
+  const std::uint32_t all = count == kBatch ? ~0u : (1u << count) - 1u;
   const double keep = d - eps_;  // what a box must be beyond to be passed
   // The segments of `mask` that are not beyond the box.
   auto near = [&](std::uint32_t mask, const double lo[3], const double hi[3]) {
     for (std::uint32_t m = mask; m; m &= m - 1) {
-      const Segment& s = segs[__builtin_ctz(m)];
+      const Segment& s = segs[lowest_bit(m)];
       if (segment_box_beyond(s.a, s.b, lo, hi, keep)) mask &= ~(m & -m);
     }
     return mask;
@@ -307,7 +344,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
   // pieces that would be examined for a segment is fixed), but a query that
   // is not clear usually stops at its first node. The tree is balanced, so
   // its depth is about log2(patches / 4).
-  std::array<std::pair<int, std::uint32_t>, 128> stack;
+  std::array<std::pair<int, std::uint32_t>, kWalkStack> stack;
   std::size_t top = 0;
   std::uint32_t hit = 0;
   const std::uint32_t root = near(all, nodes_[0].box.lo, nodes_[0].box.hi);
@@ -324,7 +361,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
       const std::uint32_t near_l = near(mask, l.box.lo, l.box.hi);
       const std::uint32_t near_r = near(mask, r.box.lo, r.box.hi);
       if (top + 2 > stack.size()) throw GeometryError("clearance: hierarchy too deep");
-      const Segment& s = segs[__builtin_ctz(mask)];
+      const Segment& s = segs[lowest_bit(mask)];
       const bool left_first = segment_box_bound2(s.a, s.b, l.box.lo, l.box.hi) <=
                               segment_box_bound2(s.a, s.b, r.box.lo, r.box.hi);
       if (left_first ? near_r : near_l) stack[top++] = {left_first ? n.right : n.left, left_first ? near_r : near_l};
@@ -335,7 +372,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
       const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
       std::uint32_t m = near(mask & ~hit, p.box.lo, p.box.hi);
       for (std::uint32_t b = m; b; b &= b - 1) {
-        const Segment& s = segs[__builtin_ctz(b)];
+        const Segment& s = segs[lowest_bit(b)];
         auto local = [&p](const gp_Pnt& q) {
           return gp_Pnt(q.XYZ().Dot(p.axes[0]), q.XYZ().Dot(p.axes[1]), q.XYZ().Dot(p.axes[2]));
         };
@@ -402,44 +439,70 @@ double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp
 
 }  // namespace
 
-std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
-                                            std::uint32_t mask, double d, Witness* witness) const {
-  const int pu = patch.pu, pv = patch.pv;
-  const int n = (pu + 1) * (pv + 1);
-  const std::size_t sz = static_cast<std::size_t>(n);
-  const double d2 = d * d, keep = d - eps_;
-  auto dist2 = [&](const gp_XYZ& q, std::uint32_t bit) {
-    const Segment& s = segs[__builtin_ctz(bit)];
-    return squared_point_segment_distance(q, s.a.XYZ(), s.ab, s.ab2);
-  };
+// One patch_blocked() query: the patch's pieces on the thread's work stack
+// (the patch's whole net first) and the segments found blocked so far. The
+// member functions are its phases, called in order by patch_blocked() for
+// each piece popped.
+struct ClearanceModel::PatchQuery {
+  const Patch& patch;
+  const Segment* segs;
+  double d2, keep;
+  Witness* witness;
+  std::size_t sz;  // control points per piece
   Work& w = work();
-  w.pieces.clear();
-  w.cps.assign(cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
-               cps_.begin() + static_cast<std::ptrdiff_t>(patch.first + sz));
-  w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr, mask});
-  std::array<H4, kMaxNet> c;
-  std::array<gp_Pnt, kMaxNet> pts;
-  std::uint32_t hit = 0;
-  // Segments that cannot be decided within this many pieces (each) count as
-  // blocked: slow cases cost some path, never a gouge.
-  int budget = 4000 * __builtin_popcount(mask);
-  while (!w.pieces.empty() && (mask & ~hit)) {
-    Piece piece = w.pieces.back();
+  std::uint32_t hit = 0;              // segments shown blocked
+  std::array<H4, kMaxNet> c;          // the current piece's net
+  std::array<gp_Pnt, kMaxNet> pts;    // and its points in space
+  gp_Pnt corners[4];                  // its corners (points of the surface)
+
+  PatchQuery(const ClearanceModel& model, const Patch& p, const Segment* s, std::uint32_t mask,
+             double d, Witness* wit)
+      : patch(p), segs(s), d2(d * d), keep(d - model.eps_), witness(wit),
+        sz(static_cast<std::size_t>((p.pu + 1) * (p.pv + 1))) {
+    w.pieces.clear();
+    w.cps.assign(model.cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
+                 model.cps_.begin() + static_cast<std::ptrdiff_t>(patch.first + sz));
+    w.pieces.push_back({patch.u0, patch.u1, patch.v0, patch.v1, 0, 0, patch.trim == nullptr, mask});
+  }
+
+  // The squared distance from q to the segment of bit `bit`.
+  double dist2(const gp_XYZ& q, std::uint32_t bit) const {
+    const Segment& s = segs[lowest_bit(bit)];
+    return squared_point_segment_distance(q, s.a.XYZ(), s.ab, s.ab2);
+  }
+
+  // Pops the top piece into `piece` and its net into c; false when none is
+  // left.
+  bool pop(Piece& piece) {
+    if (w.pieces.empty()) return false;
+    piece = w.pieces.back();
     w.pieces.pop_back();
     std::copy(w.cps.begin() + static_cast<std::ptrdiff_t>(piece.first), w.cps.end(), c.begin());
     w.cps.resize(piece.first);
-    std::uint32_t m = piece.mask & ~hit;
-    if (!m) continue;
-    if (--budget < 0) {
-      hit |= m;
-      for (const Piece& rest : w.pieces) hit |= rest.mask;
-      break;
-    }
-    if (!piece.inside) {
-      const int state = patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
-      if (state < 0) continue;  // this piece is outside the face
-      piece.inside = state > 0;
-    }
+    return true;
+  }
+
+  // Out of budget: `m` and every segment a piece still on the stack is near
+  // count as blocked (slow cases cost some path, never a gouge).
+  void give_up(std::uint32_t m) {
+    hit |= m;
+    for (const Piece& rest : w.pieces) hit |= rest.mask;
+  }
+
+  // False if the piece lies outside the face; otherwise records whether it
+  // lies wholly inside (then its points need no further trim test).
+  bool on_face(Piece& piece) const {
+    if (piece.inside) return true;
+    const TrimDomain::RectClass state =
+        patch.trim->classify_rect(piece.u0, piece.u1, piece.v0, piece.v1);
+    if (state == TrimDomain::RectClass::Outside) return false;
+    piece.inside = state == TrimDomain::RectClass::Inside;
+    return true;
+  }
+
+  // The piece's control points in space (pts) and its corners.
+  void load_points() {
+    const int pu = patch.pu, pv = patch.pv;
     // A polynomial net keeps w = 1 exactly under subdivision (averages of
     // ones): no division needed.
     if (patch.rational) {
@@ -447,10 +510,17 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     } else {
       for (std::size_t k = 0; k < sz; ++k) pts[k].SetCoord(c[k].x, c[k].y, c[k].z);
     }
-    // A witness: the piece's corners are points of the surface (and, on a
-    // trimmed face, must be points of the face).
-    const gp_Pnt corners[4] = {pts[0], pts[static_cast<std::size_t>(pu)],
-                               pts[static_cast<std::size_t>((pu + 1) * pv)], pts[sz - 1]};
+    corners[0] = pts[0];
+    corners[1] = pts[static_cast<std::size_t>(pu)];
+    corners[2] = pts[static_cast<std::size_t>((pu + 1) * pv)];
+    corners[3] = pts[sz - 1];
+  }
+
+  // Witnesses: a corner of the piece is a point of the surface (and, on a
+  // trimmed face, must be a point of the face); every segment of `m` closer
+  // than d to one is blocked (added to hit, the last such corner given as
+  // the witness). Returns the segments of `m` still undecided.
+  std::uint32_t corner_witnesses(const Piece& piece, std::uint32_t m) {
     const double cu[4] = {piece.u0, piece.u1, piece.u0, piece.u1};
     const double cv[4] = {piece.v0, piece.v0, piece.v1, piece.v1};
     for (int k = 0; k < 4 && m; ++k) {
@@ -464,25 +534,24 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
       }
       m &= ~hit;
     }
-    if (!m) continue;
-    const Obb box(pts.data(), n, corners);
+    return m;
+  }
+
+  // The segments of `m` not provably beyond d - eps of the piece's oriented
+  // box (a frame from its corners, so a nearly flat piece gets a thin box).
+  std::uint32_t near_box(const Obb& box, std::uint32_t m) const {
     for (std::uint32_t b = m; b; b &= b - 1) {
-      const Segment& s = segs[__builtin_ctz(b)];
+      const Segment& s = segs[lowest_bit(b)];
       if (segment_box_beyond(box.local(s.a), box.local(s.b), box.lo, box.hi, keep)) m &= ~(b & -b);
     }
-    if (!m) continue;
-    // A piece this small with no corner closer than d has no point closer
-    // than d - eps (its box's diagonal is under eps).
-    if (box.extent() * 1.7320508075688772 <= eps_) continue;
-    // Subdivision that does not shrink the box (it should): not proved.
-    if (piece.depth > 60) {
-      hit |= m;
-      continue;
-    }
-    // Split across the longer parametric direction of the control net. The
-    // half on the side of the corner nearer the (first) segment goes on top,
-    // so that a witness, if any, is met early (the answers do not depend on
-    // the order, only the work).
+    return m;
+  }
+
+  // Splits the piece across the longer parametric direction of its control
+  // net and pushes both halves, near `m`. The half on the side of the corner
+  // nearer the (first) segment goes on top, so that a witness, if any, is
+  // met early (the answers do not depend on the order, only the work).
+  void push_halves(const Piece& piece, std::uint32_t m) {
     const double lu = corners[0].Distance(corners[1]) + corners[2].Distance(corners[3]);
     const double lv = corners[0].Distance(corners[2]) + corners[1].Distance(corners[3]);
     const bool along_u = lu >= lv;
@@ -490,7 +559,7 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     w.cps.resize(at + 2 * sz);
     const bool low_nearer = dist2(corners[0].XYZ(), m & -m) <= dist2(corners[3].XYZ(), m & -m);
     H4* bottom = w.cps.data() + at;
-    split_net(c.data(), pu, pv, along_u, low_nearer ? bottom + sz : bottom,
+    split_net(c.data(), patch.pu, patch.pv, along_u, low_nearer ? bottom + sz : bottom,
               low_nearer ? bottom : bottom + sz);
     Piece lo = piece, hi = piece;
     lo.depth = hi.depth = piece.depth + 1;
@@ -507,7 +576,41 @@ std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* s
     w.pieces.push_back(below);
     w.pieces.push_back(above);
   }
-  return hit;
+};
+
+// Subdivides the patch depth first until each segment of `mask` is decided:
+// blocked by a corner witness, or clear because every piece near it is
+// outside the face, provably beyond d - eps, or smaller than eps across.
+std::uint32_t ClearanceModel::patch_blocked(const Patch& patch, const Segment* segs,
+                                            std::uint32_t mask, double d, Witness* witness) const {
+  PatchQuery q(*this, patch, segs, mask, d, witness);
+  int budget = kPiecesPerSegment * bit_count(mask);
+  Piece piece{};
+  while ((mask & ~q.hit) && q.pop(piece)) {
+    std::uint32_t m = piece.mask & ~q.hit;
+    if (!m) continue;
+    if (--budget < 0) {
+      q.give_up(m);
+      break;
+    }
+    if (!q.on_face(piece)) continue;
+    q.load_points();
+    m = q.corner_witnesses(piece, m);
+    if (!m) continue;
+    const Obb box(q.pts.data(), static_cast<int>(q.sz), q.corners);
+    m = q.near_box(box, m);
+    if (!m) continue;
+    // A piece this small with no corner closer than d has no point closer
+    // than d - eps (its box's diagonal is under eps).
+    if (box.extent() * kSqrt3 <= eps_) continue;
+    // Subdivision that does not shrink the box (it should): not proved.
+    if (piece.depth > kMaxPieceSplits) {
+      q.hit |= m;
+      continue;
+    }
+    q.push_halves(piece, m);
+  }
+  return q.hit;
 }
 
 double ClearanceModel::local_distance(const gp_Pnt& q, Witness* w) {

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <gp_Pnt.hxx>
@@ -80,7 +81,9 @@ class ClearanceModel {
 
  private:
   struct Box {
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    // Empty: any point added replaces the infinite bounds.
+    static constexpr double kInf = std::numeric_limits<double>::infinity();
+    double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
     void add(const gp_Pnt& p);
     void add(const Box& b);
   };
@@ -91,9 +94,8 @@ class ClearanceModel {
     Box box;                // axis-aligned box of the control net
     gp_XYZ axes[3];         // and an oriented one: axes, then bounds along them
     double olo[3] = {0, 0, 0}, ohi[3] = {0, 0, 0};
-    const TrimDomain* trim = nullptr;  // null or the face's domain
+    const TrimDomain* trim = nullptr;  // the face's domain if the patch meets its boundary, else null
     const PatchGrid* grid = nullptr;   // the face's grid
-    int state = 1;                     // 1 inside the face, 0 meets its boundary
     double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  // the patch's grid parameters
   };
   struct Node {
@@ -105,12 +107,13 @@ class ClearanceModel {
   int build_node(int lo, int hi);
   void add_piece(const Net& net, const PatchGrid& grid, const TrimDomain* trim);
   // Up to 32 segments at once (bit k for segs[k]; `mask` the ones asked
-  // about): the ones some surface point comes closer than d to. With one
-  // segment, `witness` receives the point found.
+  // about; kBatch in clearance.cpp): the ones some surface point comes
+  // closer than d to. With one segment, `witness` receives the point found.
   struct Segment;
   std::uint32_t blocked(const Segment* segs, int count, double d, Witness* witness) const;
   std::uint32_t patch_blocked(const Patch& p, const Segment* segs, std::uint32_t mask, double d,
                               Witness* witness) const;
+  struct PatchQuery;  // patch_blocked()'s state and phases (clearance.cpp)
 
   double eps_, max_piece_;
   std::vector<H4> cps_;

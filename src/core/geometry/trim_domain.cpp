@@ -37,6 +37,13 @@ constexpr int kMaxSpanDegree = 25;
 std::string label(int face) {
   return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")";
 }
+// The classifier's answer for a point as the class of a rectangle around it
+// that no boundary meets (ON: undecided).
+TrimDomain::RectClass rect_class(TopAbs_State st) {
+  return st == TopAbs_IN    ? TrimDomain::RectClass::Inside
+         : st == TopAbs_OUT ? TrimDomain::RectClass::Outside
+                            : TrimDomain::RectClass::Boundary;
+}
 }  // namespace
 
 // The domain is read from the face oriented FORWARD: exploring a REVERSED
@@ -64,7 +71,7 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
     if (!add_spans(pc, f, l)) spans_exact_ = false;
   }
   quad_.push_back({{fmin_[0] - 1e-9 * range, fmin_[1] - 1e-9 * range},
-                    {fmax_[0] + 1e-9 * range, fmax_[1] + 1e-9 * range}, 0, -1});
+                    {fmax_[0] + 1e-9 * range, fmax_[1] + 1e-9 * range}, RectClass::Boundary, -1});
   std::vector<int> all(boundary_.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   build_quadtree(0, all, 0);
@@ -235,13 +242,12 @@ void TrimDomain::build_quadtree(int node, const std::vector<int>& boxes, int dep
   if (here.empty()) {
     const TopAbs_State st =
         classify_point(0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1]));
-    n.state = st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
+    n.state = rect_class(st);
     return;
   }
   if (depth >= 9) return;  // undecided leaf along the boundary
   const double mid[2] = {0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1])};
   const double lo[2] = {n.lo[0], n.lo[1]}, hi[2] = {n.hi[0], n.hi[1]};
-  n.state = 2;
   n.first_child = static_cast<int>(quad_.size());
   for (int k = 0; k < 4; ++k) {
     QuadNode c;
@@ -255,22 +261,27 @@ void TrimDomain::build_quadtree(int node, const std::vector<int>& boxes, int dep
   for (int k = 0; k < 4; ++k) build_quadtree(first + k, here, depth + 1);
 }
 
-int TrimDomain::query_quadtree(int node, const double lo[2], const double hi[2]) const {
+// The class all the leaves that meet [lo, hi] agree on, Boundary if they do
+// not; Outside if none meets it.
+TrimDomain::RectClass TrimDomain::query_quadtree(int node, const double lo[2],
+                                                 const double hi[2]) const {
   const QuadNode& n = quad_[static_cast<std::size_t>(node)];
-  if (n.state != 2) return n.state;
-  int state = 3;  // none seen yet
+  if (n.leaf()) return n.state;
+  bool seen = false;
+  RectClass state = RectClass::Outside;
   for (int k = 0; k < 4; ++k) {
     const QuadNode& c = quad_[static_cast<std::size_t>(n.first_child + k)];
     if (c.lo[0] > hi[0] || c.hi[0] < lo[0] || c.lo[1] > hi[1] || c.hi[1] < lo[1]) continue;
-    const int s = query_quadtree(n.first_child + k, lo, hi);
-    if (s == 0) return 0;
-    if (state == 3) {
+    const RectClass s = query_quadtree(n.first_child + k, lo, hi);
+    if (s == RectClass::Boundary) return s;
+    if (!seen) {
+      seen = true;
       state = s;
     } else if (state != s) {
-      return 0;
+      return RectClass::Boundary;
     }
   }
-  return state == 3 ? -1 : state;
+  return state;
 }
 
 std::size_t TrimDomain::RectHash::operator()(const RectKey& k) const {
@@ -299,7 +310,7 @@ int TrimDomain::cached(const RectKey& key, Decide decide) const {
   return answer;
 }
 
-int TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const {
+TrimDomain::RectClass TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const {
   double lo[2] = {face_approx(0, u0), face_approx(1, v0)};
   double hi[2] = {face_approx(0, u1), face_approx(1, v1)};
   for (int d = 0; d < 2; ++d) {
@@ -310,20 +321,21 @@ int TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const 
   // Outside the face's parameter rectangle there is no face.
   if (hi[0] < quad_[0].lo[0] || lo[0] > quad_[0].hi[0] || hi[1] < quad_[0].lo[1] ||
       lo[1] > quad_[0].hi[1])
-    return -1;
+    return RectClass::Outside;
   const bool within = lo[0] >= quad_[0].lo[0] && hi[0] <= quad_[0].hi[0] &&
                       lo[1] >= quad_[0].lo[1] && hi[1] <= quad_[0].hi[1];
-  const int s = query_quadtree(0, lo, hi);
-  if (s == -1 || (s == 1 && within)) return s;
+  const RectClass s = query_quadtree(0, lo, hi);
+  if (s == RectClass::Outside || (s == RectClass::Inside && within)) return s;
   // Along the boundary the quadtree stops at cells 1/512 of the range wide:
   // below that, a rectangle that no p-curve meets lies wholly on one side,
   // which its centre tells.
-  return cached({{u0, u1, v0, v1}, 0}, [&] {
-    if (!curves_miss(lo, hi)) return 0;
-    const TopAbs_State st =
-        classify_point(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]));
-    return st == TopAbs_IN ? 1 : st == TopAbs_OUT ? -1 : 0;
-  });
+  // The cache keeps ints (contains() stores 0/1 there): the RectClass
+  // values.
+  return static_cast<RectClass>(cached({{u0, u1, v0, v1}, 0}, [&] {
+    if (!curves_miss(lo, hi)) return static_cast<int>(RectClass::Boundary);
+    return static_cast<int>(
+        rect_class(classify_point(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]))));
+  }));
 }
 
 TopAbs_State TrimDomain::classify_point(double fu, double fv) const {
@@ -410,8 +422,8 @@ bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1, std::vector<I
 }
 
 bool TrimDomain::contains(double u, double v) const {
-  const int quick = classify_rect(u, u, v, v);
-  if (quick != 0) return quick > 0;
+  const RectClass quick = classify_rect(u, u, v, v);
+  if (quick != RectClass::Boundary) return quick == RectClass::Inside;
   // On the boundary to within rounding: the classifier, at the exact face
   // parameters.
   return cached({{u, u, v, v}, 1}, [&] {

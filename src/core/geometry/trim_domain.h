@@ -44,11 +44,13 @@ class TrimDomain {
   // classifier (one projection per parameter on analytic faces) elsewhere.
   bool contains(double u, double v) const;
 
-  // The grid rectangle [u0, u1] x [v0, v1]: -1 entirely outside the face,
-  // 1 entirely inside, 0 it meets the boundary (or, rarely, could not be
-  // decided: a p-curve that grazes it to within rounding, or one with no
-  // exact Bezier form). A rectangle reported inside or outside is so.
-  int classify_rect(double u0, double u1, double v0, double v1) const;
+  // Where the grid rectangle [u0, u1] x [v0, v1] lies: entirely outside the
+  // face, entirely inside, or it meets the boundary (Boundary also when,
+  // rarely, it could not be decided: a p-curve that grazes it to within
+  // rounding, or one with no exact Bezier form). A rectangle reported
+  // Inside or Outside is so.
+  enum class RectClass : int { Outside = -1, Boundary = 0, Inside = 1 };
+  RectClass classify_rect(double u0, double u1, double v0, double v1) const;
 
   int face_label() const { return label_; }  // the face index it was built with
 
@@ -79,16 +81,17 @@ class TrimDomain {
     }
   };
   // A quadtree over the face's parameter rectangle: a node that no boundary
-  // box meets is wholly inside (1) or outside (-1) the face (one classifier
-  // call decides); nodes that meet the boundary are split down to a depth,
-  // below which they stay undecided (0).
+  // box meets is wholly Inside or Outside the face (one classifier call
+  // decides); nodes that meet the boundary are split down to a depth, below
+  // which they stay undecided leaves (Boundary).
   struct QuadNode {
     double lo[2], hi[2];
-    int state = 0;       // 1, -1, 0 (undecided leaf), 2 (has children)
-    int first_child = -1;  // children at first_child .. first_child + 3
+    RectClass state = RectClass::Boundary;  // of a leaf
+    int first_child = -1;  // children at first_child .. first_child + 3, or -1: a leaf
+    bool leaf() const { return first_child < 0; }
   };
   void build_quadtree(int node, const std::vector<int>& boxes, int depth);
-  int query_quadtree(int node, const double lo[2], const double hi[2]) const;
+  RectClass query_quadtree(int node, const double lo[2], const double hi[2]) const;
 
   TopoDS_Face face_;
   Handle(Geom_Surface) surface_;  // the face's own surface (with its location)
