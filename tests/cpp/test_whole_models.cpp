@@ -52,12 +52,15 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
   const double delta = res.metrics.delta;
   const test::WholeModelCheck w =
       test::check_whole_model(shape, picked, res.path, c.r, delta / 4, c.samples, 0.002, 4 * delta);
+  std::cout << "  worst gap " << w.max_gap << " at (" << w.worst.X() << ", " << w.worst.Y() << ", "
+            << w.worst.Z() << ") on face " << w.worst_face << "\n";
   std::cout << "  " << c.name << ": " << picked.size() << " faces, L " << res.metrics.cutting_length
             << " mm, " << res.metrics.sub_isocurves << " sub-isocurves, " << res.metrics.retracts
             << " retracts; min clearance " << w.min_clearance << " (r " << c.r << "), max gap "
             << w.max_gap << " (delta " << delta << ", largest local " << res.metrics.delta_max
             << "), unreachable samples " << w.unreachable << "/"
-            << w.samples << ", unreachable length " << res.metrics.unreachable_length << "\n";
+            << w.samples << ", unreachable length " << res.metrics.unreachable_length
+            << " (from above " << res.metrics.unreachable_from_above_length << ")\n";
   // No gouge against any face of the model, links included (they are feed
   // moves too).
   EXPECT_GE(w.min_clearance, c.r - res.metrics.chord_tolerance - p.gouge_tolerance - 1e-4)

@@ -82,7 +82,8 @@ class AirMoves {
   AirMoves(const IsoParams& p, const ClearanceModel& model)
       : p_(p), model_(model), safe_c_(p.safe_z + p.ball_radius),
         cut_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)),
-        air_(model.query_distance(p.ball_radius + p.air_clearance)) {}
+        air_(model.query_distance(p.ball_radius + p.air_clearance)),
+        touch_(model.query_distance(p.ball_radius)) {}
 
   double cutting_clearance() const { return cut_; }
 
@@ -149,18 +150,20 @@ class AirMoves {
   }
 
   // A lift straight up from a cutting position a to centre height `top`
-  // keeps the cutting clearance (the reach from above, coverage.h); where it
-  // passes nearer than r + air_clearance to the model (a piece ends where the
-  // reach does, beside an overhang), its lower part is fed rather than a
-  // rapid: up to the lowest of the heights a.z + air_clearance x 2^k from
-  // which the rest of the lift keeps r + air_clearance (the whole lift if
-  // none). Returns the height where the rapid starts.
+  // keeps the cutting clearance (the reach from above, coverage.h); where,
+  // above its first chord + gouge tolerance, it passes nearer than r to the
+  // model (a piece ends where the reach does, beside an overhang; or runs
+  // along a wall), its lower part is fed rather than a rapid, so that no
+  // rapid cuts: up to the lowest of the heights a.z + air_clearance x 2^k
+  // from which the rest keeps r (the whole lift if none). Returns the height
+  // where the rapid starts.
   double lift_fed_to(const gp_Pnt& a, double top) const {
-    if (top <= a.Z() || model_.clear(a, up(a, top), air_)) return a.Z();
+    const double start = a.Z() + p_.chord_tolerance + p_.gouge_tolerance;
+    if (top <= start || model_.clear(up(a, start), up(a, top), touch_)) return a.Z();
     for (int k = 0; k < 12; ++k) {
       const double z = a.Z() + p_.air_clearance * double(1 << k);
       if (z >= top) break;
-      if (model_.clear(up(a, z), up(a, top), air_)) return z;
+      if (model_.clear(up(a, z), up(a, top), touch_)) return z;
     }
     return top;
   }
@@ -169,7 +172,7 @@ class AirMoves {
   static gp_Pnt up(const gp_Pnt& p, double z) { return gp_Pnt(p.X(), p.Y(), z); }
   const IsoParams& p_;
   const ClearanceModel& model_;
-  double safe_c_, cut_, air_;
+  double safe_c_, cut_, air_, touch_;
 };
 
 // The horizontal direction a piece starts in (none if it starts vertically).
