@@ -208,7 +208,19 @@ _OUTPUTS = (
         QT_TRANSLATE_NOOP(
             "App::Property",
             "Length of tool-centre path left out because the ball would come "
-            "closer than its radius to the model there (material is left)",
+            "closer than its radius to the model there, or a vertical tool cannot "
+            "reach the place from above (material is left)",
+        ),
+    ),
+    (
+        "App::PropertyLength",
+        "UnreachableFromAboveLength",
+        "unreachable_from_above_length",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Of UnreachableLength: the path left out because a vertical tool "
+            "cannot reach those places from above (undersides, places under an "
+            "overhang; the ball there would be clear, the tool above it would not)",
         ),
     ),
     (
@@ -604,6 +616,7 @@ def _combined_metrics(results):
         "cutting_time",
         "lower_bound_length",
         "unreachable_length",
+        "unreachable_from_above_length",
     ):
         combined[attr] = sum(getattr(r.metrics, attr) for r in results)
     for attr in ("sub_isocurves", "retracts"):
@@ -639,7 +652,8 @@ def _print_certificate(obj, m, seconds):
             "%d retracts; iso-distance tolerance %.4f..%.4f mm, max iso-distance "
             "%.4f mm -> guaranteed scallop %.5f mm (requested %.5f mm), "
             "guaranteed overcut %.5f mm (allowed %.5f mm, chords %.5f mm); "
-            "machine time %.1f min (cutting %.1f min); unreachable %.1f mm; %.2f s",
+            "machine time %.1f min (cutting %.1f min); unreachable %.1f mm "
+            "(from above %.1f mm); %.2f s",
         )
         % (
             obj.Label,
@@ -664,6 +678,7 @@ def _print_certificate(obj, m, seconds):
             m["machine_time"] / 60.0,
             m["cutting_time"] / 60.0,
             m["unreachable_length"],
+            m["unreachable_from_above_length"],
             seconds,
         )
     )

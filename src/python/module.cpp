@@ -212,6 +212,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("machine_time", &IsoMetrics::machine_time, "s")
       .def_readonly("cutting_time", &IsoMetrics::cutting_time, "s")
       .def_readonly("unreachable_length", &IsoMetrics::unreachable_length)
+      .def_readonly("unreachable_from_above_length", &IsoMetrics::unreachable_from_above_length)
       .def_readonly("lower_bound_length", &IsoMetrics::lower_bound_length);
 
   py::class_<SubIsocurve>(m, "SubIsocurve")

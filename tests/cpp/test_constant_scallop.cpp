@@ -70,7 +70,10 @@ Checked check_face(const TopoDS_Shape& shape, int face_index, const IsoResult& r
   const double delta = res.metrics.delta;
   c.gap = test::coverage_gap(face, contact_segments(face, res.path, p.ball_radius, delta), 120,
                              2 * delta);
-  const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0);
+  // Where a 3-axis tool reaches from above (not under the equator).
+  const test::ModelCloud reach(face, 200);
+  const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0,
+                                                     &reach);
   c.scallop = s.max;
   c.uncovered = s.uncovered;
   const test::FaceCloud cloud(face, 400);

@@ -62,7 +62,10 @@ TEST(Guarantees, BudgetsAddUpAndHoldOnASphere) {
     EXPECT_LE(m.guaranteed_scallop, c.h * (1 + 1e-9));
     // Not needlessly fine: the cusp takes most of what the chords leave.
     EXPECT_GT(m.guaranteed_scallop, 0.8 * c.h);
-    const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0);
+    // Where a 3-axis tool reaches from above (not under the equator).
+    const test::ModelCloud reach(face, 200);
+    const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0,
+                                                       &reach);
     const double closest = test::min_centre_distance(cloud, res.path, p.ball_radius, 3000);
     std::cout << "h " << c.h << " overcut " << c.overcut << " resolution " << c.resolution
               << (c.bound == IsoScallopBound::Flat ? " flat" : " curvature") << ": chord "
@@ -188,6 +191,13 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
     const gp_Pnt a = centre(t, i - 1, r), b = centre(t, i, r);
     const bool vertical = std::abs(a.X() - b.X()) + std::abs(a.Y() - b.Y()) < 1e-12;
     const auto kind = static_cast<MoveKind>(t.kind[i]);
+    if (kind == MoveKind::Plunge && b.Z() > a.Z()) {
+      // A lift fed (where a rapid would pass nearer than r to the model):
+      // straight up, keeping the cutting clearance.
+      EXPECT_TRUE(vertical) << "move " << i;
+      worst_lift = std::min(worst_lift, segment_clearance(model, a, b, 0.05));
+      continue;
+    }
     if (kind == MoveKind::Plunge || kind == MoveKind::Ramp) {
       ++entries;
       EXPECT_EQ(t.kind[i - 1], static_cast<std::uint8_t>(MoveKind::Rapid)) << "move " << i;
@@ -253,8 +263,12 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
 INSTANTIATE_TEST_SUITE_P(
     Models, AirMoves,
     ::testing::Values(AirCase{"MAT", mat, first_face, 3.0, 0.05, 0.1, 0.02},
+                      // Air time 0.89 of the safe-height time measured since
+                      // the op leaves out what is not reachable from above
+                      // (under the eaves, beside the walls' feet): more,
+                      // shorter pieces and hops (under 0.75 before issue 15).
                       AirCase{"house_on_the_hill", test::house_on_the_hill,
-                              test::house_on_the_hill_picked, 3.0, 0.05, 0.75, 0.6}),
+                              test::house_on_the_hill_picked, 3.0, 0.05, 0.95, 0.6}),
     [](const ::testing::TestParamInfo<AirCase>& i) { return std::string(i.param.name); });
 
 }  // namespace

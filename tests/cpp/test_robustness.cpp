@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <pthread.h>
 
+#include <algorithm>
 #include <functional>
 #include <string>
 
@@ -284,14 +285,41 @@ TEST(Robustness, ZLevelRoughingRefusesAModelThatIsNotASolid) {
 }
 
 // tests/data/face.brep is a reversed open face at z = 0: its orientation
-// puts the ball under it, which the result says; a sphere (a solid) and
-// MAT (an open face turned up) give no such warning.
+// puts the ball under it, where a vertical tool cannot be. The op finishes
+// it from its upper side: every feed move's tip is on or above the face (no
+// deeper than the stated overcut), nothing is left out as unreachable from
+// above, and the result says the face was taken reversed. Whatever the
+// pattern.
+TEST(Robustness, OpenFaceTurnedDownIsFinishedFromAbove) {
+  const TopoDS_Shape face = test::load("face.brep");
+  for (IsoPattern pattern :
+       {IsoPattern::Adaptive, IsoPattern::ParallelPlanes, IsoPattern::ConstantScallop}) {
+    IsoParams p = iso(3, 0.05);
+    p.pattern = pattern;
+    const IsoResult r = adaptive_isocurve(face, {0}, p);
+    double lowest = 1e300;
+    int feeds = 0;
+    for (std::size_t i = 0; i < r.path.size(); ++i)
+      if (r.path.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed)) {
+        lowest = std::min(lowest, r.path.z[i]);
+        ++feeds;
+      }
+    EXPECT_GT(feeds, 100) << int(pattern);
+    EXPECT_GE(lowest, -r.metrics.guaranteed_overcut) << int(pattern);
+    EXPECT_EQ(r.metrics.unreachable_from_above_length, 0.0) << int(pattern);
+    EXPECT_GT(r.metrics.cutting_length, 0.5 * r.metrics.lower_bound_length) << int(pattern);
+  }
+}
+
+// The face taken reversed is said; a sphere (a solid) and MAT (an open face
+// turned up) give no such warning.
 TEST(Robustness, OpenFaceTurnedDownIsReported) {
   auto warned = [](const TopoDS_Shape& s, double h) {
     IsoParams p = iso(3, h);
     const IsoResult r = adaptive_isocurve(s, {0}, p);
     for (const std::string& w : r.warnings)
-      if (has(w, "Face1) is an open face whose orientation puts the material above it"))
+      if (has(w, "Face1) is an open face whose orientation puts the material above it: "
+                 "finished from its upper side"))
         return true;
     return false;
   };

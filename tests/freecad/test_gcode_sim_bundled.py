@@ -5,14 +5,21 @@ Adaptive Isocurve job is posted with FreeCAD's linuxcnc post, read back by
 rs274 and simulated by tests/sim's isocam_gcode_sim; the measured material
 left and overcut must stay within sim_support.stated_bounds(op).
 
-Ball and shell1 break the bounds today (expectedFailure, with the numbers
-measured after the guarantees of issue 10): both have faces under overhangs
-(Ball's sphere below its equator, shell1's undersides) that the op finishes
-from below, although a vertical tool cannot reach them from above, and the
-lifts and entries there go through the part above, with the ball's centre
-almost on the surface (overcut ~ r). The op must leave such places out as
-unreachable (issue 15). When it does, these tests report an unexpected
-success, which fails the run: drop the marker then.
+Ball and shell1 have faces under overhangs (Ball's sphere below its equator,
+shell1's undersides) that a vertical tool cannot reach from above: the op
+leaves them out (UnreachableFromAboveLength) and the simulator measures the
+material left only where the ball, lifted straight up, is clear of the model
+(isocam_gcode_sim --reach-from-above, the default). Before the op did so
+(issue 15) it finished them from below and its lifts went up through the
+part: Ball left 0.0785 mm (stated 0.05) and cut 0.998 mm deep (stated 0.005),
+shell1 left 0.0129 mm (stated 0.01) and cut 1.996 mm deep (stated 0.0042);
+now both overcuts are within the stated bound with no rapid cutting. The
+material left still breaks the bound where the reach from above ends
+(expectedFailure, with the numbers measured): the passes are cut exactly
+where the column above them stops being clear, which covers the places
+between two passes only where both reach. When the op covers those borders,
+these tests report an unexpected success, which fails the run: drop the
+marker then.
 
 Run: tests/freecad/run_in_freecad.sh tests/freecad/test_gcode_sim_bundled.py
 """
@@ -48,6 +55,7 @@ class _Measured(unittest.TestCase):
 
     NAME = SHAPE = None
     BALL_DIAMETER = SCALLOP = SPACING = None
+    MIN_REACHABLE = 0.5  # the least reachable fraction of the picked area
 
     @classmethod
     def setUpClass(cls):
@@ -79,7 +87,9 @@ class _Measured(unittest.TestCase):
         return self.__class__.result
 
     def check_measured(self):
-        sim_support.check_measured(self, self.NAME, self.op, self.measured())
+        sim_support.check_measured(
+            self, self.NAME, self.op, self.measured(), min_reachable=self.MIN_REACHABLE
+        )
 
     def check_left(self):
         sim_support.assert_left_within_stated(self, self.NAME, self.op, self.measured())
@@ -105,19 +115,22 @@ class MatPieceTest(_Measured):
 class BallTest(_Measured):
     NAME, SHAPE = "Ball", staticmethod(lambda: support.load_shape("Ball.brep"))
     BALL_DIAMETER, SCALLOP, SPACING = 2.0, 0.05, 0.05
+    # Under the sphere, the bore and the cavity's rim a vertical tool does
+    # not reach: 0.286 of the picked area is reachable from above.
+    MIN_REACHABLE = 0.25
 
     def test_measured(self):
         self.check_measured()
 
     @unittest.expectedFailure
     def test_left_within_stated(self):
-        # Measured 0.0785 mm (stated 0.0500) at (-1.96, -7.32, 0.00) on Face6.
+        # Measured 0.0818 mm (stated 0.0500) at (2.24, 4.12, 5.91) on Face17,
+        # where the reach from above ends: passes are cut where the column
+        # above them stops being clear, and a point beyond the shorter of two
+        # neighbouring passes is covered by one pass only.
         self.check_left()
 
-    @unittest.expectedFailure
     def test_overcut_within_stated(self):
-        # Measured 0.998 mm (stated 0.0050) at (0.99, 8.22, 14.94) on Face16:
-        # a lift from a pass under the sphere goes up through its top.
         self.check_overcut()
 
 
@@ -125,18 +138,22 @@ class Shell1Test(_Measured):
     NAME, SHAPE = "Shell1", staticmethod(lambda: support.load_shape("shell1.brep"))
     BALL_DIAMETER, SCALLOP, SPACING = 4.0, 0.01, 0.04
 
+    @unittest.expectedFailure
     def test_measured(self):
+        # 193 reachable samples with no move within 0.5 mm, on Face32 about
+        # (71.8, 20.0, 8.5): a wall whose top leans out by 0.001-0.005 mm, so
+        # that the column above its foot is clear in some places and not in
+        # others (the reach there is ragged); the passes are cut where it is
+        # not, and the thin parts left between are reachable but not cut.
         self.check_measured()
 
     @unittest.expectedFailure
     def test_left_within_stated(self):
-        # Measured 0.0129 mm (stated 0.0100) at (91.00, 9.75, 8.50) on Face58.
+        # Measured 0.500 mm (the simulator's cap; stated 0.0100) at (71.81,
+        # 20.00, 8.56) on Face32: the same ragged reach (see test_measured).
         self.check_left()
 
-    @unittest.expectedFailure
     def test_overcut_within_stated(self):
-        # Measured 1.996 mm (stated 0.0042) at (90.42, 5.28, 3.32) on Face62:
-        # the lift from a pass under an overhang goes up through the part.
         self.check_overcut()
 
 

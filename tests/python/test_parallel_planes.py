@@ -69,7 +69,9 @@ class ParallelPlanesOnMat(unittest.TestCase):
         self.assertAlmostEqual(
             seg[kind[1:] == core.FEED].sum(), res.metrics.cutting_length, delta=1e-6
         )
-        entries = (kind == core.PLUNGE) | (kind == core.RAMP)
+        # Entries: plunges down and ramps (a plunge up is a fed lift).
+        dz = np.diff(xyz[:, 2])
+        entries = ((kind[1:] == core.PLUNGE) & (dz < 0)) | (kind[1:] == core.RAMP)
         self.assertEqual(int(entries.sum()), res.metrics.retracts)
 
     def test_every_cutting_point_is_in_a_plane_delta_apart(self):

@@ -74,6 +74,7 @@ struct Sample {
   float area = 0.0f;         // the part of the face's area this point stands for (mm^2)
   int face = 0;              // 1-based, FreeCAD's FaceN
   bool picked = false;
+  bool open = false;         // its face bounds no solid of the shape: either side may be cut
 };
 
 // The faces of `shape` as FreeCAD numbers them (FaceN = N-th entry of
@@ -93,6 +94,10 @@ struct Options {
   double max_residual = 0.5;   // d is measured up to this; above it counts as "not covered"
   double reach_margin = 0.0;   // reachable: a ball of r + margin touching p is clear
   double reach_tol = 1e-4;     // ... i.e. no model point closer than r + margin - tol
+  // ... and so is that ball lifted straight up (a 3-axis tool comes from
+  // above): no model point that close to the vertical ray up from its centre.
+  // A point of an open face is reachable if it is so from either side.
+  bool from_above = true;
   double scallop = -1.0;       // if > 0: coverage = reachable fraction with d <= scallop
   double cell = 0.5;           // fine cell of the sample grid (mm)
   int threads = 2;

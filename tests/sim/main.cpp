@@ -21,12 +21,15 @@ const char* kUsage =
     "usage: isocam_gcode_sim --brep MODEL.brep --faces 1[,2...] --radius R\n"
     "                        (--gcode FILE.ngc [--rs274 PATH] [--tool-table FILE] | --canon FILE)\n"
     "                        [--spacing 0.05] [--threads 2] [--scallop H] [--max-residual 0.5]\n"
-    "                        [--reach-margin 0] [--reach-tol 1e-4] [--arc-sag 1e-5] [--cell 0.5]\n"
+    "                        [--reach-margin 0] [--reach-tol 1e-4] [--reach-from-above 1]\n"
+    "                        [--arc-sag 1e-5] [--cell 0.5]\n"
     "                        [--map FILE [--map-step 0.2]] [--canon-out FILE] [--rapid-rate 5000]\n"
     "Sweeps a ball of radius R (mm) along the program's moves (tool-tip\n"
     "coordinates, ball centre R above the tip) and prints a JSON summary: the\n"
     "most material left on reachable points of the picked faces (FreeCAD's\n"
-    "FaceN numbers), the deepest overcut on any face (rapids included, and\n"
+    "FaceN numbers; reachable: the ball touching the point, and with\n"
+    "--reach-from-above 1 that ball lifted straight up, hold no model point),\n"
+    "the deepest overcut on any face (rapids included, and\n"
     "rapids alone), counts, lengths, the machine time at the program's feeds\n"
     "and --rapid-rate (mm/min, no acceleration). --map writes 'x y residual' lines.\n";
 
@@ -78,7 +81,7 @@ int run(int argc, char** argv) {
                                 "--rs274",     "--tool-table", "--canon",        "--spacing",
                                 "--threads",   "--scallop",    "--max-residual", "--reach-margin",
                                 "--reach-tol", "--arc-sag",    "--cell",         "--map",
-                                "--map-step",  "--canon-out",  "--rapid-rate"};
+                                "--map-step",  "--canon-out",  "--rapid-rate", "--reach-from-above"};
   for (const auto& [k, v] : a) {
     bool ok = false;
     for (const char* n : known) ok = ok || k == n;
@@ -97,6 +100,11 @@ int run(int argc, char** argv) {
   if (a.count("--reach-margin"))
     o.reach_margin = positive("--reach-margin", a["--reach-margin"], true);
   if (a.count("--reach-tol")) o.reach_tol = positive("--reach-tol", a["--reach-tol"], true);
+  if (a.count("--reach-from-above")) {
+    const std::string& v = a["--reach-from-above"];
+    if (v != "0" && v != "1") throw std::runtime_error("--reach-from-above must be 0 or 1, got " + v);
+    o.from_above = v == "1";
+  }
   if (a.count("--cell")) o.cell = positive("--cell", a["--cell"]);
   if (a.count("--rapid-rate")) o.rapid_rate = positive("--rapid-rate", a["--rapid-rate"]);
   const double spacing = a.count("--spacing") ? positive("--spacing", a["--spacing"]) : 0.05;

@@ -74,6 +74,7 @@ void write_json(std::ostream& out, const std::vector<Sample>& samples, const Pro
       << "  \"max_residual\": " << num(o.max_residual) << ",\n"
       << "  \"reach_margin\": " << num(o.reach_margin) << ",\n"
       << "  \"reach_tol\": " << num(o.reach_tol) << ",\n"
+      << "  \"reach_from_above\": " << (o.from_above ? "true" : "false") << ",\n"
       << "  \"left\": " << extreme(r.left) << ",\n"
       << "  \"overcut\": " << extreme(r.overcut) << ",\n"
       << "  \"rapid_overcut\": " << extreme(r.rapid_overcut) << ",\n"

@@ -11,6 +11,7 @@
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
@@ -43,6 +44,7 @@ struct FaceJob {
   TopoDS_Face face;
   int number = 0;
   bool picked = false;
+  bool open = false;
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
   int cu = 1, cv = 1;
   // Cells that a piece of a boundary p-curve may cross: their points are
@@ -137,6 +139,7 @@ void sample_cell(const FaceJob& job, GeomAdaptor_Surface& surf, const Handle(Geo
       s.area = static_cast<float>(n.Magnitude() * (du / nu) * (dv / nv));
       s.face = job.number;
       s.picked = job.picked;
+      s.open = job.open;
       bool ok = n.Magnitude() > 1e-12 * (1 + su.Magnitude() * sv.Magnitude());
       if (!ok) {  // a pole or other degenerate point: ask for the limit normal
         GeomLProp_SLProps props(geom, u, v, 1, 1e-9);
@@ -165,12 +168,17 @@ std::vector<Sample> sample_faces(const TopoDS_Shape& shape, const std::vector<in
     if (k < 1 || k > static_cast<int>(faces.size()))
       throw std::runtime_error("face " + std::to_string(k) + " does not exist: the model has " +
                                std::to_string(faces.size()) + " faces");
+  // Faces that bound no solid (open faces): a tool may be on either side.
+  TopTools_IndexedDataMapOfShapeListOfShape solids;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, solids);
   std::vector<FaceJob> jobs;
   for (std::size_t f = 0; f < faces.size(); ++f) {
     FaceJob job;
     job.face = TopoDS::Face(faces[f]);
     job.number = static_cast<int>(f) + 1;
     job.picked = std::find(picked.begin(), picked.end(), job.number) != picked.end();
+    const int in_solids = solids.FindIndex(job.face);
+    job.open = in_solids == 0 || solids(in_solids).IsEmpty();
     BRepTools::UVBounds(job.face, job.u0, job.u1, job.v0, job.v1);
     // Cells of about 2 mm, from the lengths of a 9 x 9 net of iso-lines.
     Handle(Geom_Surface) geom = BRep_Tool::Surface(job.face);

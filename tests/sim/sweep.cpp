@@ -6,7 +6,8 @@
 // once, sorted by a lower bound of their distance to the cell, and each
 // sample of the cell scans them nearest first, stopping when the bound passes
 // the best distance found. The same fine cells answer the reach test (is any
-// model sample inside the ball that touches p from outside?).
+// model sample inside the ball that touches p from outside, or, for a 3-axis
+// tool, inside the column swept by that ball lifted straight up?).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -279,14 +280,20 @@ Nearest nearest_segments(const std::vector<Sample>& samples, const SampleIndex& 
 
 // Reach: the ball of radius rr = r + reach_margin touching p from outside
 // (centre p + rr N) holds no model sample closer than rr - reach_tol to its
-// centre. Per picked cell, the cells whose box comes that close to the box
-// of its centres are gathered once; each centre then tests their samples.
+// centre; from above (o.from_above), nor to the vertical ray up from its
+// centre (the ball lifted straight up past the model's top: the tool and its
+// shank, as wide as the ball, coming down from above). Per picked cell, the
+// cells whose box comes that close to the box of its centres (extended up to
+// the top of the region) are gathered once; each centre then tests their
+// samples. An open face (o.two_sided faces) is reachable from either side.
 void reach(const std::vector<Sample>& samples, const SampleIndex& six, const Options& o,
            Result& res) {
   const int threads = std::max(1, o.threads);
   const double rr = o.ball_radius + o.reach_margin;
   const double lim = rr - o.reach_tol, lim2 = lim * lim;
   const float l2 = static_cast<float>(lim2);
+  double top = -1e300;  // the model's highest sample
+  for (const Cell& c : six.cells) top = std::max(top, c.box.hi.z);
   std::vector<std::vector<int>> near(static_cast<std::size_t>(threads));
   parallel_for(six.cells.size(), threads, [&](std::size_t ci, int t) {
     const Cell& c = six.cells[ci];
@@ -295,7 +302,9 @@ void reach(const std::vector<Sample>& samples, const SampleIndex& six, const Opt
     for (std::size_t k = c.begin; k < c.end; ++k) {
       const Sample& s = samples[six.order[k]];
       qbox.add({s.p.x + rr * s.n[0], s.p.y + rr * s.n[1], s.p.z + rr * s.n[2]});
+      if (s.open) qbox.add({s.p.x - rr * s.n[0], s.p.y - rr * s.n[1], s.p.z - rr * s.n[2]});
     }
+    if (o.from_above) qbox.hi.z = std::max(qbox.hi.z, top);
     auto& list = near[static_cast<std::size_t>(t)];
     list.clear();
     long a[3], b[3];
@@ -312,28 +321,45 @@ void reach(const std::vector<Sample>& samples, const SampleIndex& six, const Opt
           const double dz = std::max({ob.lo.z - qbox.hi.z, 0.0, qbox.lo.z - ob.hi.z});
           if (dx * dx + dy * dy + dz * dz < lim2) list.push_back(other);
         }
-    for (std::size_t k = c.begin; k < c.end; ++k) {
-      const std::size_t i = six.order[k];
-      const Sample& s = samples[i];
-      if (!s.picked || (s.n[0] == 0 && s.n[1] == 0 && s.n[2] == 0)) continue;
-      const Vec3 q{s.p.x + rr * s.n[0], s.p.y + rr * s.n[1], s.p.z + rr * s.n[2]};
-      bool clear = true;
+    // Is the ball of centre q (and with from_above, the ray up from q) clear?
+    auto clear_at = [&](const Vec3& q) {
       for (int other : list) {
         const Cell& oc = six.cells[static_cast<std::size_t>(other)];
-        if (box_dist2(q, oc.box) >= lim2) continue;
+        if (o.from_above) {
+          // The distance from the box to the ray: below q as to a point, beside
+          // it horizontally.
+          const Vec3 at{q.x, q.y, std::clamp(q.z, oc.box.lo.z, std::max(q.z, oc.box.hi.z))};
+          if (box_dist2(at, oc.box) >= lim2) continue;
+        } else if (box_dist2(q, oc.box) >= lim2) {
+          continue;
+        }
         const float qx = static_cast<float>(q.x - oc.box.lo.x);
         const float qy = static_cast<float>(q.y - oc.box.lo.y);
         const float qz = static_cast<float>(q.z - oc.box.lo.z);
         int hit = 0;
-        for (std::size_t m = oc.begin; m < oc.end; ++m) {
-          const float dx = six.fx[m] - qx, dy = six.fy[m] - qy, dz = six.fz[m] - qz;
-          hit |= dx * dx + dy * dy + dz * dz < l2;
+        if (o.from_above) {
+          for (std::size_t m = oc.begin; m < oc.end; ++m) {
+            const float dx = six.fx[m] - qx, dy = six.fy[m] - qy;
+            const float dz = std::min(six.fz[m] - qz, 0.0f);  // above q: beside the ray
+            hit |= dx * dx + dy * dy + dz * dz < l2;
+          }
+        } else {
+          for (std::size_t m = oc.begin; m < oc.end; ++m) {
+            const float dx = six.fx[m] - qx, dy = six.fy[m] - qy, dz = six.fz[m] - qz;
+            hit |= dx * dx + dy * dy + dz * dz < l2;
+          }
         }
-        if (hit) {
-          clear = false;
-          break;
-        }
+        if (hit) return false;
       }
+      return true;
+    };
+    for (std::size_t k = c.begin; k < c.end; ++k) {
+      const std::size_t i = six.order[k];
+      const Sample& s = samples[i];
+      if (!s.picked || (s.n[0] == 0 && s.n[1] == 0 && s.n[2] == 0)) continue;
+      bool clear = clear_at({s.p.x + rr * s.n[0], s.p.y + rr * s.n[1], s.p.z + rr * s.n[2]});
+      if (!clear && s.open)
+        clear = clear_at({s.p.x - rr * s.n[0], s.p.y - rr * s.n[1], s.p.z - rr * s.n[2]});
       res.reachable[i] = clear ? 1 : 0;
     }
   });

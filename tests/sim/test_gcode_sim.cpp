@@ -3,13 +3,16 @@
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <TopoDS.hxx>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <gp_Ax2.hxx>
+#include <gp_Pln.hxx>
 #include <sstream>
 #include <string>
 
@@ -227,6 +230,44 @@ TEST(GcodeSimReach, GrooveNarrowerThanTheBallIsUnreachable) {
       EXPECT_FALSE(r.reachable[i]) << samples[i].p.y << " " << samples[i].p.z;
     }
   }
+}
+
+// A solid sphere: a 3-axis tool reaches its upper half only (the ball that
+// touches a point below the equator, lifted straight up, goes through the
+// sphere); the ball alone reaches all of it.
+TEST(GcodeSimReach, SphereIsReachableFromAboveOnItsUpperHalf) {
+  const TopoDS_Shape ball = BRepPrimAPI_MakeSphere(10.0).Shape();
+  const auto samples = gsim::sample_faces(ball, {1}, 0.1, 2);
+  gsim::Options o = options();
+  Result r = gsim::measure(samples, parse(rapid(0, 0, 50)), o);
+  EXPECT_NEAR(r.reachable_area / r.picked_area, 0.5, 0.005);
+  int wrong = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const double z = samples[i].p.z;
+    if (std::fabs(z) > 0.05 && bool(r.reachable[i]) != (z > 0)) ++wrong;
+  }
+  EXPECT_EQ(wrong, 0);
+  o.from_above = false;
+  r = gsim::measure(samples, parse(rapid(0, 0, 50)), o);
+  EXPECT_EQ(r.reachable_samples, r.picked_samples);
+}
+
+// A face turned down: as an open face it is reachable (from its upper side);
+// as the bottom of a box it is not.
+TEST(GcodeSimReach, OpenFaceIsReachableFromItsUpperSide) {
+  const TopoDS_Shape plate =
+      BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, -1)), 0, 20, 0, 20).Face();
+  auto samples = gsim::sample_faces(plate, {1}, 0.1, 2);
+  ASSERT_LT(samples.front().n[2], -0.999f);  // the ball would be under it
+  Result r = gsim::measure(samples, parse(rapid(0, 0, 50)), options());
+  EXPECT_EQ(r.reachable_samples, r.picked_samples);
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(20.0, 20.0, 10.0).Shape();
+  const int bottom = face_facing(box, 0, 0, -1);
+  ASSERT_GT(bottom, 0);
+  samples = gsim::sample_faces(box, {bottom}, 0.1, 2);
+  r = gsim::measure(samples, parse(rapid(0, 0, 50)), options());
+  EXPECT_GT(r.picked_samples, 1000u);
+  EXPECT_EQ(r.reachable_samples, 0u);
 }
 
 TEST(GcodeSimCanon, RejectsWhatItCannotSimulate) {

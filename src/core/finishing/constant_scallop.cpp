@@ -214,7 +214,7 @@ class PieceCutter {
   // The clear pieces of centre path over the parts of `pc` inside the face.
   // `clipped` receives the contact polyline of each part inside the face.
   void cut(const FrontPiece& pc, std::vector<CutPiece>* out, int* curves, double* unreachable,
-           PathIndex* clipped) const {
+           double* from_above, PathIndex* clipped) const {
     for (const auto& [a, b] : inside_runs(pc)) {
       FrontPiece contact;
       for (double t = a;; t = std::min(b, std::floor(t) + 1.0)) {
@@ -243,7 +243,8 @@ class PieceCutter {
       if (pts.size() < 2 || full <= 1e-6) continue;
       ++*curves;
       double kept = 0;
-      for (CutPiece& piece : clear_pieces(pts, ts, f, model_, clearance_, p_.chord_tolerance)) {
+      for (CutPiece& piece :
+           clear_pieces(pts, ts, f, model_, clearance_, p_.chord_tolerance, from_above)) {
         kept += piece.length();
         out->push_back(std::move(piece));
       }
@@ -367,7 +368,7 @@ std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h
 struct FaceCut {
   std::vector<CutPiece> pieces;
   int curves = 0;
-  double unreachable = 0.0;
+  double unreachable = 0.0, from_above = 0.0;
 };
 
 // Phase 3: a face's paths clipped, offset, cut for clearance, zig-zag; and
@@ -385,7 +386,7 @@ FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
     all.check();
     std::vector<CutPiece> pieces;
     for (const FrontPiece& pc : o->paths.paths[i])
-      cutter.cut(pc, &pieces, &out.curves, &out.unreachable, &clipped);
+      cutter.cut(pc, &pieces, &out.curves, &out.unreachable, &out.from_above, &clipped);
     if (i % 2 == 1) {  // zig-zag
       std::reverse(pieces.begin(), pieces.end());
       for (CutPiece& pc : pieces) pc.reverse();
@@ -404,6 +405,7 @@ void add_face(const FaceOut& o, FaceCut cut, int face_index, ScallopPieces* out)
   out->paths += static_cast<int>(fp.paths.size());
   out->curves += cut.curves;
   out->unreachable_length += cut.unreachable;
+  out->unreachable_from_above += cut.from_above;
   out->max_spacing = std::max({out->max_spacing, fp.max_spacing, 2 * o.gap});
   out->guaranteed_scallop = std::max({out->guaranteed_scallop, fp.scallop, o.gap_scallop});
   out->max_width = std::max(out->max_width, fp.max_width);

@@ -65,6 +65,7 @@ struct ScallopPieces {
   int paths = 0;                   // paths over all faces (pieces of a path count once)
   int curves = 0;                  // contact-polyline pieces inside the faces
   double unreachable_length = 0.0; // centre path cut away: no clearance
+  double unreachable_from_above = 0.0;  // of it: the column above not clear
   double max_spacing = 0.0;        // measured, see the header
   double guaranteed_scallop = 0.0; // measured, see the header
   double max_width = 0.0;          // the largest strip width used

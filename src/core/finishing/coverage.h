@@ -40,6 +40,8 @@ FaceCoverage uniform_coverage(const PatchGrid& grid, int face, IsoDirection dir,
 struct FacePathStats {
   int curves = 0;                   // sub-isocurves with something to cut
   double unreachable_length = 0.0;  // ball-centre path left out: no clearance
+  // the part of it left out only because the column above is not clear
+  double unreachable_from_above = 0.0;
 };
 
 // Ball centres with the curve parameter of each.
@@ -84,8 +86,10 @@ std::vector<PlannedCurve> plan_face(const PatchGrid& grid, std::vector<SubIsocur
                                     const IsoParams& params);
 
 // The pieces of planned curves [first, last) of one face: the parts where
-// the ball would come closer than r to the model are cut away (exactly where
-// they start, to the clearance model's tolerance). Curves are independent:
+// the ball would come closer than r to the model, or a vertical tool could
+// not reach from above (the column of centres above comes as close,
+// ClearanceModel::clear_above()), are cut away (exactly where they start, to
+// the clearance model's tolerance). Curves are independent:
 // ranges of them can be cut on several threads. `stats` receives the number
 // of curves and the length left out.
 std::vector<CutPiece> cut_planned(const PatchGrid& grid, const PlannedCurve* first,
@@ -95,11 +99,13 @@ std::vector<CutPiece> cut_planned(const PatchGrid& grid, const PlannedCurve* fir
 // The runs of a ball-centre polyline (vertices `pts` at increasing curve
 // parameters `t`; `at` evaluates the exact curve) where the ball keeps
 // `clearance` from the model, cut exactly where they start to violate, as
-// cut_planned() does for isocurves. The pieces have no grid (null): links to
-// them are straight.
+// cut_planned() does for isocurves (reach from above included; the length
+// left out for that alone is added to *from_above if given). The pieces have
+// no grid (null): links to them are straight.
 std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::vector<double>& t,
                                    const std::function<gp_Pnt(double)>& at,
-                                   const ClearanceModel& model, double clearance, double tol);
+                                   const ClearanceModel& model, double clearance, double tol,
+                                   double* from_above = nullptr);
 
 // Orders and links pieces (of one face or many) into a path. Greedy: from
 // the end of a piece, the nearest piece end (either direction) that a feed

@@ -15,6 +15,7 @@
 #include <string>
 
 #include <Standard_Failure.hxx>
+#include <TopoDS.hxx>
 
 #include "finishing/constant_scallop.h"
 #include "finishing/coverage.h"
@@ -219,9 +220,19 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     const int f = static_cast<int>(i);
     const auto at = std::find(faces.begin(), faces.end(), f);
     if (at == faces.end() && !params.protect_unpicked_faces) continue;
+    // A picked open face turned down is finished from its upper side: the
+    // side a vertical tool reaches (the grid's normal follows the face's
+    // orientation, so the face is taken reversed).
+    TopoDS_Face face = all[i];
+    bool turned = false;
     try {
-      model_faces.push_back({f, PatchGrid::from_face(all[i], f), std::nullopt});
-      model_faces.back().trim.emplace(all[i], model_faces.back().grid, f);  // reserve(): stable
+      model_faces.push_back({f, PatchGrid::from_face(face, f), std::nullopt});
+      if (at != faces.end() && open_face_turned_down(shape, face, model_faces.back().grid)) {
+        face = TopoDS::Face(face.Reversed());
+        turned = true;
+        model_faces.back().grid = PatchGrid::from_face(face, f);
+      }
+      model_faces.back().trim.emplace(face, model_faces.back().grid, f);  // reserve(): stable
       model.add(model_faces.back().grid, &*model_faces.back().trim);
     } catch (const Standard_Failure& e) {
       if (at != faces.end())
@@ -236,10 +247,11 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     }
     if (at != faces.end()) {
       picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
-      if (open_face_turned_down(shape, all[i], model_faces.back().grid))
+      if (turned)
         result.warnings.push_back(
             face_label(f) + " is an open face whose orientation puts the material above it: "
-                            "the ball runs under it (reverse the face to finish its upper side)");
+                            "finished from its upper side, the side a vertical tool reaches "
+                            "(the face taken reversed)");
     }
   }
   model.build();
@@ -259,6 +271,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     result.face_direction.assign(picked.size(), IsoDirection::Auto);
     result.metrics.sub_isocurves = cut.curves;
     result.metrics.unreachable_length = cut.unreachable_length;
+    result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
     max_dist = cut.max_pass_distance;
     // Not a certificate: the flat-ground scallop of the largest pass
     // distance (see the header).
@@ -288,6 +301,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     result.face_direction = cut.face_direction;
     result.metrics.sub_isocurves = cut.curves;
     result.metrics.unreachable_length = cut.unreachable_length;
+    result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
     result.metrics.delta_max = cut.max_width;
     max_dist = cut.max_spacing;
     max_scallop = e + cut.guaranteed_scallop;
@@ -362,6 +376,7 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   for (std::size_t k = 0; k < ranges.size(); ++k) {
     done[ranges[k].face].stats.curves += cut_stats[k].curves;
     done[ranges[k].face].stats.unreachable_length += cut_stats[k].unreachable_length;
+    done[ranges[k].face].stats.unreachable_from_above += cut_stats[k].unreachable_from_above;
     std::move(cut[k].begin(), cut[k].end(), std::back_inserter(pieces));
   }
   for (FaceResult& best : done) {
@@ -369,12 +384,18 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
     result.face_direction.push_back(best.dir);
     result.metrics.sub_isocurves += best.stats.curves;
     result.metrics.unreachable_length += best.stats.unreachable_length;
+    result.metrics.unreachable_from_above_length += best.stats.unreachable_from_above;
     max_dist = std::max(max_dist, best.coverage.max_iso_distance);
     max_scallop = std::max(max_scallop, best.coverage.guaranteed_scallop);
     result.metrics.lower_bound_length += best.lower_bound;
     result.metrics.delta_max = std::max(result.metrics.delta_max, best.delta_max);
     working.push_back(best.grid);
   }
+  if (result.metrics.unreachable_from_above_length > 0)
+    result.warnings.push_back(
+        mm(result.metrics.unreachable_from_above_length) +
+        " mm of tool-centre path left out: a vertical tool cannot reach those places from above "
+        "(undersides, places under an overhang); material is left there");
   result.path = link_pieces(std::move(pieces), params, model);
   report_progress(progress, 1.0);
   double top = -1e300;

@@ -69,6 +69,9 @@ double polyline_length(const std::vector<gp_Pnt>& pts) {
 // point, then the fed entry from there to b. Times in minutes.
 struct Hop {
   double top = 0.0;  // centre height of the move across
+  // The lift from a: fed (at the vertical feed) up to this centre height,
+  // from there a rapid; a's own height if the whole lift is a rapid.
+  double fed_to = 0.0;
   gp_Pnt approach;   // where the fed entry starts (the descent's end)
   bool ramp = false; // the entry is a ramp (at the horizontal feed), not a plunge
   double time = 0.0; // estimated at the rates of the params
@@ -79,7 +82,8 @@ class AirMoves {
   AirMoves(const IsoParams& p, const ClearanceModel& model)
       : p_(p), model_(model), safe_c_(p.safe_z + p.ball_radius),
         cut_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)),
-        air_(model.query_distance(p.ball_radius + p.air_clearance)) {}
+        air_(model.query_distance(p.ball_radius + p.air_clearance)),
+        touch_(model.query_distance(p.ball_radius - 0.5 * (p.chord_tolerance + p.gouge_tolerance))) {}
 
   double cutting_clearance() const { return cut_; }
 
@@ -137,18 +141,38 @@ class AirMoves {
         h.top = safe_c_;
       h.approach = up(b, h.top);
     }
+    h.fed_to = a ? lift_fed_to(*a, h.top) : 0.0;
     const double across = a ? std::hypot(h.approach.X() - a->X(), h.approach.Y() - a->Y()) : 0.0;
-    const double rapid = (a ? h.top - a->Z() : 0.0) + across + (h.top - h.approach.Z());
-    h.time = rapid / p_.rapid_rate +
+    const double rapid = (a ? h.top - h.fed_to : 0.0) + across + (h.top - h.approach.Z());
+    h.time = rapid / p_.rapid_rate + (a ? (h.fed_to - a->Z()) / p_.plunge_rate : 0.0) +
              h.approach.Distance(b) / (h.ramp ? p_.feed_rate : p_.plunge_rate);
     return h;
+  }
+
+  // A lift straight up from a cutting position a to centre height `top`
+  // keeps the cutting clearance r - c - g (the reach from above,
+  // coverage.h); where, above its first c + g, it passes nearer than
+  // r - (c + g) / 2 to the model (a piece ends where the reach does, beside
+  // an overhang: the column grazes it), its lower part is fed rather than a
+  // rapid: up to the lowest of the heights a.z + air_clearance x 2^k from
+  // which the rest keeps that (the whole lift if none). (A lift along a wall
+  // at r stays a rapid.) Returns the height where the rapid starts.
+  double lift_fed_to(const gp_Pnt& a, double top) const {
+    const double start = a.Z() + p_.chord_tolerance + p_.gouge_tolerance;
+    if (top <= start || model_.clear(up(a, start), up(a, top), touch_)) return a.Z();
+    for (int k = 0; k < 12; ++k) {
+      const double z = a.Z() + p_.air_clearance * double(1 << k);
+      if (z >= top) break;
+      if (model_.clear(up(a, z), up(a, top), touch_)) return z;
+    }
+    return top;
   }
 
  private:
   static gp_Pnt up(const gp_Pnt& p, double z) { return gp_Pnt(p.X(), p.Y(), z); }
   const IsoParams& p_;
   const ClearanceModel& model_;
-  double safe_c_, cut_, air_;
+  double safe_c_, cut_, air_, touch_;
 };
 
 // The horizontal direction a piece starts in (none if it starts vertically).
@@ -183,7 +207,10 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   // of p by `h`.
   auto enter = [&](const CutPiece& p, const Hop& h) {
     const gp_Pnt& e = h.approach;
-    if (!path.empty()) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), h.top - r);
+    if (!path.empty() && h.fed_to > path.z.back() + r)
+      path.add(MoveKind::Plunge, path.x.back(), path.y.back(), h.fed_to - r);
+    if (!path.empty() && h.top > path.z.back() + r)
+      path.add(MoveKind::Rapid, path.x.back(), path.y.back(), h.top - r);
     path.add(MoveKind::Rapid, e.X(), e.Y(), h.top - r);
     if (e.Z() < h.top) tip(MoveKind::Rapid, e);
     tip(h.ramp ? MoveKind::Ramp : MoveKind::Plunge, p.pts.front());
@@ -272,6 +299,11 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
     cut(next);
     used[chosen.piece] = 1;
     cur = chosen.piece;
+  }
+  {
+    const gp_Pnt last(path.x.back(), path.y.back(), path.z.back() + r);
+    const double fed = air.lift_fed_to(last, safe + r);
+    if (fed > last.Z()) path.add(MoveKind::Plunge, last.X(), last.Y(), fed - r);
   }
   path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
   return path;

@@ -59,7 +59,14 @@ CentrePolyline centres_along(const PatchGrid& g, const SubIsocurve& c, bool forw
 }
 
 // Splits a centre polyline into the runs where the ball keeps `clearance`
-// from the model. Vertices are tested first; a boundary between a clear and
+// from the model and is reachable from above: the column of centres straight
+// above each kept centre (the tool lifted to clear the model, its shank as
+// wide as the ball) keeps `clearance` too (ClearanceModel::clear_above()), so
+// a 3-axis tool finishes only what it can reach, and every vertical lift from
+// and entry to a piece is clear. The columns are checked at every vertex and
+// at the cut ends (located as below); between two vertices, at most a chord
+// of the linearisation apart, the chord itself is checked, not the columns
+// above its inner points. Vertices are tested first; a boundary between a clear and
 // a violating vertex is located by bisection on the curve parameter (to 1e-2
 // of the chord tolerance). A chord between two clear vertices that is itself
 // not clear (another part of the model comes near the chord, not the curve)
@@ -71,15 +78,23 @@ class RunSplitter {
               double tol)
       : at_(std::move(at)), model_(model), clearance_(clearance), tol_(tol) {}
 
+  // Length of the line's chords left out although the ball at both ends is
+  // clear: only the column above an end is not (undersides, overhangs).
+  double from_above() const { return from_above_; }
+
   std::vector<CentrePolyline> split(const CentrePolyline& line) {
-    // A clear chord proves both its ends clear: vertices are tested on their
-    // own only next to a chord that is not clear (most chords are).
+    // A vertex is kept if its column is clear (which proves the ball there
+    // clear). For the report, a dropped vertex's ball is proven clear by a
+    // clear chord next to it, or else tested on its own.
     const std::size_t n = line.pts.size();
-    std::vector<char> chord(n, 1), ok(n, 1);
+    std::vector<char> chord(n, 1), ok(n, 1), ball(n, 1);
     if (n > 1) model_.clear_polyline(line.pts.data(), n, clearance_, &chord[1]);
+    model_.clear_above(line.pts.data(), n, clearance_, ok.data());
     for (std::size_t i = 0; i < n; ++i) {
       const bool sure = (i > 0 && chord[i]) || (i + 1 < n && chord[i + 1]);
-      ok[i] = sure || model_.clear(line.pts[i], clearance_);
+      ball[i] = ok[i] || sure || model_.clear(line.pts[i], clearance_);
+      if (i > 0 && ball[i - 1] && ball[i] && !(ok[i - 1] && ok[i]))
+        from_above_ += line.pts[i - 1].Distance(line.pts[i]);
     }
     for (std::size_t i = 0; i < n; ++i) {
       const double t = line.t[i];
@@ -118,7 +133,7 @@ class RunSplitter {
     }
     const double tm = 0.5 * (ta + tb);
     const gp_Pnt pm = at_(tm);
-    if (model_.clear(pm, clearance_)) {
+    if (good(pm)) {
       extend(ta, pa, tm, pm, depth + 1);
       extend(tm, pm, tb, pb, depth + 1);
       return;
@@ -143,7 +158,7 @@ class RunSplitter {
     const double goal = 1e-2 * tol_;
     auto probe = [&](double t) {
       const gp_Pnt p = at_(t);
-      if (model_.clear(p, clearance_)) {
+      if (good(p)) {
         t_ok = t;
         p_ok = p;
       } else {
@@ -154,7 +169,7 @@ class RunSplitter {
     auto inside = [&](double t) { return (t - t_ok) * (t_bad - t) > 0; };
     ClearanceModel::Witness w;
     // (A query that ran out of budget has no witness: plain bisection.)
-    if (p_ok.Distance(p_bad) > goal && !model_.clear(p_bad, clearance_, &w) && w.grid) {
+    if (p_ok.Distance(p_bad) > goal && !good(p_bad, &w) && w.grid) {
       const double t_star = crossing(t_ok, p_ok, t_bad, p_bad, w);
       // Probes 1/4 of the goal either side of the prediction, farther
       // (doubling) while they land on the wrong side.
@@ -224,7 +239,7 @@ class RunSplitter {
     if (cur_.pts.empty() || t == cur_.t.back()) return;
     for (int it = 0; it < 40; ++it) {
       const gp_Pnt p = at_(t);
-      if (model_.clear(cur_.pts.back(), p, clearance_)) {
+      if (model_.clear(cur_.pts.back(), p, clearance_) && good(p)) {
         cur_.push(p, t);
         return;
       }
@@ -238,9 +253,15 @@ class RunSplitter {
     cur_ = CentrePolyline();
   }
 
+  // A centre the tool may take: the ball and the column above it clear.
+  bool good(const gp_Pnt& p, ClearanceModel::Witness* w = nullptr) const {
+    return model_.clear_above(p, clearance_, w);
+  }
+
   std::function<gp_Pnt(double)> at_;
   const ClearanceModel& model_;
   double clearance_, tol_;
+  double from_above_ = 0.0;
   CentrePolyline cur_;
   std::vector<CentrePolyline> runs_;
 };
@@ -294,7 +315,9 @@ std::vector<CutPiece> cut_planned(const PatchGrid& g, const PlannedCurve* first,
       kept += run.length();
       pieces.push_back({&g, c.level, std::move(run.pts), std::move(run.t)});
     }
-    st.unreachable_length += pc->line.length() - kept;
+    const double dropped = std::max(0.0, pc->line.length() - kept);
+    st.unreachable_length += dropped;
+    st.unreachable_from_above += std::min(dropped, splitter.from_above());
   }
   if (stats) *stats = st;
   return pieces;
@@ -302,13 +325,20 @@ std::vector<CutPiece> cut_planned(const PatchGrid& g, const PlannedCurve* first,
 
 std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::vector<double>& t,
                                    const std::function<gp_Pnt(double)>& at,
-                                   const ClearanceModel& model, double clearance, double tol) {
+                                   const ClearanceModel& model, double clearance, double tol,
+                                   double* from_above) {
   CentrePolyline line;
   line.pts = pts;
   line.t = t;
   std::vector<CutPiece> out;
-  for (CentrePolyline& run : RunSplitter(at, model, clearance, tol).split(line))
+  RunSplitter splitter(at, model, clearance, tol);
+  double kept = 0.0;
+  for (CentrePolyline& run : splitter.split(line)) {
+    kept += run.length();
     out.push_back({nullptr, 0.0, std::move(run.pts), std::move(run.t)});
+  }
+  if (from_above)
+    *from_above += std::min(std::max(0.0, line.length() - kept), splitter.from_above());
   return out;
 }
 

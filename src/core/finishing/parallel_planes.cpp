@@ -26,6 +26,7 @@ struct FaceCut {
   std::vector<std::pair<int, CutPiece>> pieces;  // (plane index, piece)
   int curves = 0;
   double unreachable = 0.0, max_factor = 0.0, length = 0.0;
+  double from_above = 0.0;  // of unreachable: the column above not clear
 };
 
 // On a closed curve, the last run ending at its end and the first starting
@@ -66,7 +67,7 @@ class CurveCutter {
       if (full <= 1e-6) continue;
       ++out->curves;
       std::vector<CutPiece> pieces =
-          clear_pieces(run.pts, run.t, centre_fn(), model_, clearance_, tol_);
+          clear_pieces(run.pts, run.t, centre_fn(), model_, clearance_, tol_, &out->from_above);
       const bool whole = curve_.closed && run.t.front() == t_.front() && run.t.back() == t_.back();
       if (whole && pieces.size() == 1 && pieces[0].t.front() == run.t.front() &&
           pieces[0].t.back() == run.t.back()) {
@@ -336,6 +337,7 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
   for (FaceCut& f : best.faces) {
     out.curves += f.curves;
     out.unreachable_length += f.unreachable;
+    out.unreachable_from_above += f.from_above;
     out.max_pass_distance = std::max(out.max_pass_distance, delta * f.max_factor);
     std::move(f.pieces.begin(), f.pieces.end(), std::back_inserter(pieces));
   }

@@ -22,6 +22,7 @@ struct PlanePieces {
   IsoPlaneAxis axis = IsoPlaneAxis::X;  // the axis used
   int curves = 0;                       // plane-curve pieces inside the faces
   double unreachable_length = 0.0;      // centre path cut away: no clearance
+  double unreachable_from_above = 0.0;  // of it: the column above not clear
   // Largest first-order distance between adjacent passes where the ball
   // cuts (IsoMetrics::max_iso_distance for ParallelPlanes).
   double max_pass_distance = 0.0;

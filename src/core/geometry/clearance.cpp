@@ -326,6 +326,37 @@ void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, 
   }
 }
 
+namespace {
+// The top of the column above c that clear_above() queries.
+gp_Pnt column_top(const gp_Pnt& c, double top, double d) {
+  return gp_Pnt(c.X(), c.Y(), std::max(c.Z(), top + d));
+}
+}  // namespace
+
+bool ClearanceModel::clear_above(const gp_Pnt& c, double d, Witness* witness) const {
+  return clear(c, column_top(c, top(), d), d, witness);
+}
+
+void ClearanceModel::clear_above(const gp_Pnt* pts, std::size_t n, double d, char* out) const {
+  std::array<Segment, 32> segs;
+  const double z = top();
+  for (std::size_t first = 0; first < n; first += 32) {
+    const int count = static_cast<int>(std::min<std::size_t>(32, n - first));
+    for (int k = 0; k < count; ++k) {
+      const gp_Pnt& c = pts[first + static_cast<std::size_t>(k)];
+      segs[static_cast<std::size_t>(k)] = Segment(c, column_top(c, z, d));
+    }
+    const std::uint32_t hit = blocked(segs.data(), count, d, nullptr);
+    // A batch that runs out of work budget counts all its undecided columns
+    // blocked; a long column beside a wall is such a slow case, so the
+    // blocked ones of a batch are asked again one by one.
+    for (int k = 0; k < count; ++k)
+      out[first + static_cast<std::size_t>(k)] =
+          !(hit >> k & 1u) ||
+          (count > 1 && blocked(&segs[static_cast<std::size_t>(k)], 1, d, nullptr) == 0);
+  }
+}
+
 std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
                                       Witness* witness) const {
   if (nodes_.empty() || count == 0) return 0;

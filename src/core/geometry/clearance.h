@@ -66,6 +66,20 @@ class ClearanceModel {
   // query each.
   void clear_polyline(const gp_Pnt* pts, std::size_t n, double d, char* out) const;
 
+  // Reach from above (a 3-axis tool): the column of ball centres straight
+  // above c, from c up to where no point of the model can be within d
+  // (top() + d), as one segment query. "Clear" proves that a ball-end tool
+  // lifted straight up from c -- its ball and a shank as wide as the ball --
+  // keeps d - eps from every point of the model, as clear() does for a
+  // segment; "not clear" shows a point closer than d.
+  bool clear_above(const gp_Pnt& c, double d, Witness* witness = nullptr) const;
+  // clear_above() of each of n centres into out[k], batched as
+  // clear_polyline() is (neighbouring columns share the subdivision).
+  void clear_above(const gp_Pnt* pts, std::size_t n, double d, char* out) const;
+  // The highest z of the model's control nets (which bound it); -1e300 for
+  // an empty model.
+  double top() const { return nodes_.empty() ? -1e300 : nodes_.front().box.hi[2]; }
+
   // The distance from q to the nearest point of the witness's face found by
   // Newton's method from the witness (a local minimum of the untrimmed
   // surface: an estimate, not a proof of anything); moves the witness

@@ -12,7 +12,9 @@
 #include <gp_Pnt2d.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopoDS_Edge.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
@@ -204,7 +206,54 @@ void ModelCloud::index() {
     grid_[key(static_cast<long>(std::floor(p.X() / cell_)), static_cast<long>(std::floor(p.Y() / cell_)),
               static_cast<long>(std::floor(p.Z() / cell_)))]
         .push_back(k);
+    columns_[key(static_cast<long>(std::floor(p.X() / cell_)),
+                 static_cast<long>(std::floor(p.Y() / cell_)), 0)]
+        .push_back(k);
   }
+}
+
+namespace {
+// The point of the vertical ray up from c nearest to p, and the distance.
+gp_Pnt on_ray(const gp_Pnt& c, const gp_Pnt& p) { return gp_Pnt(c.X(), c.Y(), std::max(c.Z(), p.Z())); }
+}  // namespace
+
+double ModelCloud::column_distance(const gp_Pnt& c, double cap) const {
+  // The nearest sample of each face within cap + one sample step of the ray
+  // (the x-y cells around it, samples above c - that), each refined.
+  const double reach_d = cap + max_step_;
+  const long reach = static_cast<long>(std::ceil(reach_d / cell_));
+  const long ci = static_cast<long>(std::floor(c.X() / cell_));
+  const long cj = static_cast<long>(std::floor(c.Y() / cell_));
+  std::unordered_map<int, std::pair<double, std::size_t>> best;
+  for (long i = ci - reach; i <= ci + reach; ++i)
+    for (long j = cj - reach; j <= cj + reach; ++j) {
+      auto it = columns_.find(key(i, j, 0));
+      if (it == columns_.end()) continue;
+      for (std::size_t id : it->second) {
+        const gp_Pnt& q = pts_[id].p;
+        if (q.Z() < c.Z() - reach_d) continue;
+        const double d = q.Distance(on_ray(c, q));
+        if (d > reach_d) continue;
+        auto b = best.find(pts_[id].face);
+        if (b == best.end() || d < b->second.first) best[pts_[id].face] = {d, id};
+      }
+    }
+  double out = cap;
+  for (const auto& [f, b] : best) {
+    // Alternate: the ray's point nearest the surface point, the surface
+    // point nearest that (a local projection from the sample).
+    double d = b.first;
+    gp_Pnt x = pts_[b.second].p;
+    for (int it = 0; it < 4; ++it) {
+      const Hit h = refine(on_ray(c, x), b.second, 1e300);
+      const double dh = h.point.Distance(on_ray(c, h.point));
+      if (!(dh < d - 1e-12)) break;
+      d = dh;
+      x = h.point;
+    }
+    out = std::min(out, d);
+  }
+  return out;
 }
 
 ModelCloud::Hit ModelCloud::nearest(const gp_Pnt& p, const std::vector<char>* only) const {
@@ -443,27 +492,79 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
     }
   }
   flush_all();
+  // Faces that bound no solid: the tool may be on either side of them.
+  TopTools_IndexedDataMapOfShapeListOfShape solids;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, solids);
+  // Reachable: the ball touching p from the side of n, and that ball lifted
+  // straight up, keep r - reach_tol from the model.
+  auto reachable = [&](const gp_Pnt& p, const gp_Vec& nrm) {
+    const gp_Pnt c = p.Translated(nrm * r);
+    return model.distance(c) >= r - reach_tol && model.column_distance(c, r) >= r - reach_tol;
+  };
+  // First the reach of every sample; then the gap of each reachable one: its
+  // distance to the contacts or to the nearest unreachable sample, whichever
+  // is less (the core cuts a pass where the reach ends, so a point near that
+  // border is covered by the border, not necessarily by a pass: where the
+  // reach is ragged -- a wall leaning out by microns, which the tool lifted
+  // from its foot would graze -- no pass spacing covers every thin part).
+  std::vector<std::vector<std::pair<gp_Pnt, bool>>> face_samples(mine.size());
+  SegmentIndex unreachable(gap_cap);
   for (std::size_t k = 0; k < mine.size(); ++k) {
+    const int in_solids = solids.FindIndex(mine[k]);
+    const bool open = in_solids == 0 || solids(in_solids).IsEmpty();
     for_each_face_sample(mine[k], n, [&](const gp_Pnt& p, const gp_Vec& nrm) {
+      const bool ok = reachable(p, nrm) || (open && reachable(p, -nrm));
+      face_samples[k].push_back({p, ok});
+      if (!ok) unreachable.add(p, p);
+    });
+  }
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    for (const auto& [p, ok] : face_samples[k]) {
       ++out.samples;
-      if (model.distance(p.Translated(nrm * r)) < r - reach_tol) {
+      if (!ok) {
         ++out.unreachable;
-        return;
+        continue;
       }
-      const double gap = contacts.distance(p, gap_cap);
+      const double gap = std::min(contacts.distance(p, gap_cap), unreachable.distance(p, gap_cap));
       out.face_gap[k] = std::max(out.face_gap[k], gap);
       if (gap > out.max_gap) {
         out.max_gap = gap;
         out.worst = p;
         out.worst_face = picked[k];
       }
-    });
+    }
   }
   return out;
 }
 
+double reachable_coverage_gap(const TopoDS_Face& face, const TopoDS_Shape& shape,
+                              const ModelCloud& model, double r, double reach_tol,
+                              const SegmentIndex& curves, int n, double cap) {
+  TopTools_IndexedDataMapOfShapeListOfShape solids;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SOLID, solids);
+  const int in_solids = solids.FindIndex(face);
+  const bool open = in_solids == 0 || solids(in_solids).IsEmpty();
+  auto reachable = [&](const gp_Pnt& p, const gp_Vec& nrm) {
+    const gp_Pnt c = p.Translated(nrm * r);
+    return model.distance(c) >= r - reach_tol && model.column_distance(c, r) >= r - reach_tol;
+  };
+  std::vector<gp_Pnt> reached;
+  SegmentIndex unreachable(cap);
+  for_each_face_sample(face, n, [&](const gp_Pnt& p, const gp_Vec& nrm) {
+    if (reachable(p, nrm) || (open && reachable(p, -nrm))) {
+      reached.push_back(p);
+    } else {
+      unreachable.add(p, p);
+    }
+  });
+  double worst = 0.0;
+  for (const gp_Pnt& p : reached)
+    worst = std::max(worst, std::min(curves.distance(p, cap), unreachable.distance(p, cap)));
+  return worst;
+}
+
 ScallopCheck measure_scallop(const TopoDS_Face& face, const Toolpath& path, double r, int n,
-                             double step, double cap) {
+                             double step, double cap, const ModelCloud* model) {
   // Ball centres in a hash grid of cell r.
   std::unordered_map<std::int64_t, std::vector<gp_Pnt>> grid;
   auto cell = [r](double x) { return static_cast<long>(std::floor(x / r)); };
@@ -484,6 +585,10 @@ ScallopCheck measure_scallop(const TopoDS_Face& face, const Toolpath& path, doub
   ScallopCheck out;
   for_each_face_sample(face, n, [&](const gp_Pnt& p, const gp_Vec& nrm) {
     ++out.samples;
+    if (model && model->column_distance(p.Translated(nrm * r), r) < r - 0.002) {
+      ++out.unreachable;
+      return;
+    }
     // Balls that the ray can enter below `cap` have centres within r + cap.
     double best = cap;
     const gp_Pnt mid = p.Translated(nrm * (0.5 * cap));

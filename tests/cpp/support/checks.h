@@ -10,6 +10,7 @@
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
 #include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
 #include <gp_Pnt.hxx>
 
 #include "isocam/adaptive_isocurve.h"
@@ -81,6 +82,13 @@ class ModelCloud {
   std::vector<Hit> nearest_per_face(const gp_Pnt& p, double radius,
                                     const std::vector<char>* only = nullptr) const;
   double distance(const gp_Pnt& p) const { return nearest(p).distance; }
+  // Reach from above: the distance from the model to the vertical ray up
+  // from c (a ball centred at c lifted straight up: a 3-axis tool with a
+  // shank as wide as the ball), or `cap` if nothing is within `cap`. The
+  // nearest samples to the ray (the nearest of each face) are refined by
+  // local projections alternating with the ray's nearest point, so the
+  // distance is that of a true surface point, as nearest() gives.
+  double column_distance(const gp_Pnt& c, double cap) const;
   double spacing() const { return cell_; }
 
  private:
@@ -109,6 +117,8 @@ class ModelCloud {
   double cell_ = 1.0;
   double max_step_ = 0.0;  // the largest distance between neighbouring samples
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
+  // The samples by x-y cell alone (the same cell size), for column queries.
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> columns_;
   std::int64_t key(long i, long j, long k) const;
   void add_face(const TopoDS_Face& face, int n, bool trimmed);
   Hit refine(const gp_Pnt& p, std::size_t sample, double sample_distance) const;
@@ -129,8 +139,14 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
 //    nearest point on each picked face it touches, within 0.05 mm of r: a
 //    ball on an edge touches both faces). A sample where the ball cannot
 //    touch -- its centre p + r N(p) is closer than r - reach_tol to the model
-//    -- is unreachable and counted apart; that is computed here, not taken
-//    from the core.
+//    -- or that a 3-axis tool cannot reach from above -- the vertical ray up
+//    from that centre comes as close (ModelCloud::column_distance()) -- is
+//    unreachable and counted apart; that is computed here, not taken from
+//    the core. A sample of an open face (one that bounds no solid) counts as
+//    reachable if it is so from either side. The gap of a reachable sample
+//    is its distance to the contacts or to the nearest unreachable sample,
+//    whichever is less: where the reach ends the core cuts the passes, and
+//    the border covers what is near it.
 struct WholeModelCheck {
   double min_clearance = 1e300;  // smallest centre distance to the model
   gp_Pnt closest_centre, closest_point;  // where: the ball centre, the model point
@@ -145,18 +161,30 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
                                   const Toolpath& path, double r, double step, int n,
                                   double reach_tol, double gap_cap);
 
+// coverage_gap() over the samples of `face` (a face of `shape`, sampled
+// n x n inside its wires) that a 3-axis ball-end tool of radius r reaches,
+// decided as check_whole_model() does against `model` (the whole model);
+// each sample's gap is its distance to the curves or to the nearest
+// unreachable sample, whichever is less. Capped at `cap`.
+double reachable_coverage_gap(const TopoDS_Face& face, const TopoDS_Shape& shape,
+                              const ModelCloud& model, double r, double reach_tol,
+                              const SegmentIndex& curves, int n, double cap);
+
 // The scallop measured, not inferred: over an n x n sampling of the face
 // (inside its wires), the height above each surface point p, along its
 // normal N (away from the material), at which the ray p + t N first enters
 // one of the balls swept along the feed moves (centres sampled every `step`
 // mm). That height is the material the path leaves at p. Samples no ball
-// reaches within `cap` are counted apart (not in `max`).
+// reaches within `cap` are counted apart (not in `max`). With `model` (the
+// whole model), samples a 3-axis tool cannot reach from above -- the vertical
+// ray up from p + r N comes closer than r - 0.002 to the model
+// (ModelCloud::column_distance()) -- are counted apart too (`unreachable`).
 struct ScallopCheck {
   double max = 0.0;
-  int samples = 0, uncovered = 0;
+  int samples = 0, uncovered = 0, unreachable = 0;
 };
 ScallopCheck measure_scallop(const TopoDS_Face& face, const Toolpath& path, double r, int n,
-                             double step, double cap);
+                             double step, double cap, const ModelCloud* model = nullptr);
 
 // The feed moves of a path as segments.
 SegmentIndex feed_segments(const Toolpath& path, double cell);

@@ -21,6 +21,19 @@
 // their wires, the path is cut away there, and the length left out is
 // reported.
 //
+// Reach from above (a 3-axis tool, issue 15): a centre is kept only if the
+// column of centres straight above it, up to where nothing of the model can
+// come that close, keeps the same r - chord_tolerance - gouge_tolerance from
+// the whole model (checked at every centre of the planned path and where a
+// pass is cut, ClearanceModel::clear_above(); the tool there is the ball and
+// a shank as wide as it). So undersides and places under an overhang are left
+// out (unreachable_from_above_length, and a warning), and every vertical move
+// from or to a pass -- the lift to the safe height, a plunge from straight
+// above -- keeps the cutting clearance. An open face (one that bounds no
+// solid of the shape) is finished from the side a vertical tool reaches:
+// where its orientation puts the material above it (its normal points down
+// on average, by area), the op takes it reversed and says so in `warnings`.
+//
 // The guarantees (GuaranteedScallop, GuaranteedOvercut of the FreeCAD op).
 // Let c be the chord tolerance, g the gouge tolerance and p = sqrt(3)/2 x
 // posted_resolution (the most that rounding each posted axis to half a step
@@ -172,8 +185,15 @@ struct IsoMetrics {
   // Length of ball-centre path left out because the ball cannot follow the
   // offset there without coming closer than r - chord_tolerance -
   // gouge_tolerance to a face (a concave region tighter than the ball):
-  // material is left there.
+  // material is left there; or because a 3-axis tool cannot reach the place
+  // from above (see unreachable_from_above_length). All of it, in all.
   double unreachable_length = 0.0;
+  // The part of unreachable_length left out although the ball there would
+  // be clear: the column of centres straight above it is not (an underside,
+  // a place under an overhang), so the tool could only get there through the
+  // part. Counted per chord of the planned path with both ends clear (to the
+  // chord length); material is left there.
+  double unreachable_from_above_length = 0.0;
 };
 
 struct IsoResult {

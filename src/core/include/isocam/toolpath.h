@@ -40,7 +40,7 @@ struct PathLengths {
   double rapid = 0.0;
   double plunge = 0.0;
   double ramp = 0.0;
-  int retracts = 0;  // rapid moves that go straight up
+  int retracts = 0;  // lifts: moves straight up, rapid or fed (a fed lift and the rapid on top of it count once)
 };
 PathLengths measure(const Toolpath& path);
 
