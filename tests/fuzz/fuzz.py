@@ -8,7 +8,7 @@ classified:
   HANG     it did not end within --timeout seconds
   MEMORY   it ran out of the --memory-mb address space (MemoryError,
            std::bad_alloc) or was killed for it
-  UNCLEAR  an error whose type is not ValueError / RuntimeError /
+  UNCLEAR  an error whose type is not (derived from) ValueError / RuntimeError /
            CancelledError, or whose message does not name the problem (the
            case's expected words, e.g. the argument)
   WRONG    a result with NaN or inf in a path or metric, or a bad input
@@ -408,7 +408,7 @@ def classify(case, proc_rc, out, timed_out):
     typ, msg = res["type"], res["message"]
     if typ == "MemoryError" or "bad_alloc" in msg:
         return "MEMORY", "%s: %s" % (typ, msg)
-    if typ not in CLEAR_TYPES or VAGUE.match(msg.strip()):
+    if not set(res.get("kinds", [typ])) & set(CLEAR_TYPES) or VAGUE.match(msg.strip()):
         return "UNCLEAR", "%s: %s" % (typ, msg)
     expect = case.get("expect") or []
     if expect and not any(w in msg for w in expect):

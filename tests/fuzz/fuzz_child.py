@@ -90,7 +90,10 @@ def main():
     except MemoryError as exc:
         out = {"outcome": "error", "type": "MemoryError", "message": str(exc)}
     except Exception as exc:  # the parent judges the type and message
-        out = {"outcome": "error", "type": type(exc).__name__, "message": str(exc)}
+        # The type and the types it derives from: the module's
+        # InvalidArgumentError is a ValueError.
+        kinds = [c.__name__ for c in type(exc).__mro__]
+        out = {"outcome": "error", "type": kinds[0], "kinds": kinds, "message": str(exc)}
     else:
         if hasattr(res, "xyz"):
             finite = finite_result(res)

@@ -17,14 +17,18 @@ from PySide import QtGui
 
 import gui_support as gui
 from freecad_ext import op_base, scripting, spiral_pocket
+from freecad_ext.gui import progress as gui_progress
 
 COMMAND = "IsoCAM_SpiralPocket"
 FLOOR_Z = 10.0
 COMPUTE_TIMEOUT = 120.0  # s
-# StepOver (%) and StepDown (mm): about 2 s of computing here (100 levels
-# for the cancel), long enough for the dialog, which shows after 0.4 s.
-QUICK = (5, 0.25)
-LONG = (5, 0.1)
+# StepOver (%) and StepDown (mm). The dialog is made to show at the first
+# poll (SHOW_AFTER 0 while these tests run), so whether it is seen does not
+# depend on the machine's speed as long as the computation outlasts the
+# watcher's first look (0.2 s): QUICK is 100 levels (0.5-2 s here), LONG 400
+# levels, still running when the watcher presses Cancel.
+QUICK = (5, 0.1)
+LONG = (2, 0.025)
 
 
 def _model():
@@ -42,6 +46,8 @@ def _ops(doc):
 class Pocketing(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
+        cls.show_after = gui_progress.SHOW_AFTER
+        gui_progress.SHOW_AFTER = 0.0
         FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
         gui.wait_until(
             lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None,
@@ -70,6 +76,7 @@ class Pocketing(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
+        gui_progress.SHOW_AFTER = cls.show_after
         if FreeCADGui.Control.activeDialog():
             FreeCADGui.Control.closeDialog()
         FreeCAD.closeDocument(cls.doc.Name)
