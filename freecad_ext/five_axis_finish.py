@@ -26,7 +26,6 @@ Errors follow the other IsoCAM ops: the message names the property or tool,
 the op's Path is emptied and the op is marked invalid.
 """
 
-import math
 import threading
 import time
 

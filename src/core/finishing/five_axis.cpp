@@ -99,11 +99,13 @@ struct Job {
     (void)f;
     return lead_for(lead, max_lead, p.tool_radius, kf, ka);
   }
-  double width(const StripFrame& f) const {
+  // The edge at a frame with the lead the job uses there.
+  EdgeProfile edge(const StripFrame& f) const {
     const ContactFrame c{f.p, f.normal, f.feed, f.across};
-    const double l = lead_at(c, f.kappa_feed, f.kappa_across);
-    return 2 * EdgeProfile(c, p.tool_radius, l, tilt, f.kappa_across).half_width(h_eff);
+    return EdgeProfile(c, p.tool_radius, lead_at(c, f.kappa_feed, f.kappa_across), tilt,
+                       f.kappa_across);
   }
+  double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
   bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis, double extra = 0.0) const {
     return model->clear(tip.Translated(axis * p.tool_radius),
                         tip.Translated(axis * (p.tool_length + extra)), shank_clear);
@@ -118,10 +120,31 @@ struct Traced {
   bool capped = false;
 };
 
+// The frame at uv with the feed `feed` (its tangential part), curvatures filled.
+StripFrame frame_with(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed) {
+  StripFrame f;
+  ContactFrame c;
+  if (!contact_frame(g, uv, feed, &c)) return f;  // feed null: skipped
+  f.uv = uv;
+  f.p = c.p;
+  f.normal = c.n;
+  f.feed = c.f;
+  f.across = c.a;
+  f.kappa_feed = normal_curvature(g, uv, c.f);
+  f.kappa_across = normal_curvature(g, uv, c.a);
+  return f;
+}
+
+// The paths for strips spaced for the cusp h (the target), with the
+// certificate: for each point p with a successor, the distance d to the
+// next path and the cusp of that distance as the edge at p, at the nearest
+// point q of the next path and at the ground between (the parameters'
+// midpoint) sees it: the largest of the three (the spacing was the least of
+// the three widths, so each edge meets h at the spacing marched).
 Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job,
-                  const ProgressSlice& progress) {
+                  double h, const ProgressSlice& progress) {
   Traced out;
-  const StripWidth width = [&job](const StripFrame& f) { return job.width(f); };
+  const StripWidth width = [&job, h](const StripFrame& f) { return job.width(f, h); };
   FrontSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
   s.min_spacing = 0.02 * job.flat_width;
@@ -150,14 +173,19 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
         if (!pc[k].has_next) continue;
         const StripFrame f = frame_at(g, pc, k);
         if (f.feed.SquareMagnitude() < 0.5) continue;
-        const ContactFrame c{f.p, f.normal, f.feed, f.across};
-        const double l = job.lead_at(c, f.kappa_feed, f.kappa_across);
-        const double d = next.distance(pc[k].p);
+        gp_Pnt at;
+        const double d = next.distance(pc[k].p, &at);
         out.max_spacing = std::max(out.max_spacing, d);
         out.max_width = std::max(out.max_width, pc[k].spacing);
-        out.cusp = std::max(out.cusp, EdgeProfile(c, job.p.tool_radius, l, job.tilt,
-                                                  std::max(pc[k].kappa, f.kappa_across))
-                                          .cusp(d));
+        double cu = job.edge(f).cusp(d);
+        ParamPt q;
+        nearest_on(g, at, pc[k].uv, &q);
+        const ParamPt mid{0.5 * (q.u + pc[k].uv.u), 0.5 * (q.v + pc[k].uv.v)};
+        for (const ParamPt& x : {q, mid}) {
+          const StripFrame fx = frame_with(g, x, f.feed);
+          if (fx.feed.SquareMagnitude() > 0.5) cu = std::max(cu, job.edge(fx).cusp(d));
+        }
+        out.cusp = std::max(out.cusp, cu);
       }
     }
     out.paths.push_back(std::move(front));
@@ -508,7 +536,18 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
       for (IsoDirection d : dirs) {
         const bool tr = d == IsoDirection::U;
         PatchGrid g = tr ? face.grid.transposed() : face.grid;
-        Traced t = trace_face(g, *face.trim, tr, job, slice);
+        // Spaced for h' first; where the measured certificate exceeds it
+        // (the next path runs a little farther than the march went, where
+        // points were resampled, cut out or joined), again for a target
+        // scaled down by the excess (the cusp grows about linearly with the
+        // target), up to three times.
+        double target = job.h_eff;
+        Traced t;
+        for (int attempt = 0; attempt < 4; ++attempt) {
+          t = trace_face(g, *face.trim, tr, job, target, slice);
+          if (t.cusp <= job.h_eff) break;
+          target *= 0.98 * job.h_eff / t.cusp;
+        }
         if (!best_grid || t.length < best.length) {
           best = std::move(t);
           best_grid.emplace(std::move(g));
