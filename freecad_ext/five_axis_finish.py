@@ -115,13 +115,9 @@ _ARGUMENT_SOURCES = (
     ("safe_z", "property SafeHeight"),
 )
 
-_FLAT_END_SHAPES = ("endmill", "flatendmill")
-
-
 def is_flat_end(tool):
     """True if FreeCAD describes `tool` as a flat end mill."""
-    shape = compat.tool_shape(tool).lower().rstrip("0123456789")
-    return shape in _FLAT_END_SHAPES
+    return compat.is_flat_end(tool)
 
 
 class ObjectFiveAxisStripFinish(IsoCAMOp):

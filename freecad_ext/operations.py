@@ -221,10 +221,8 @@ def _flat_end(inputs):
     missing = _tool(inputs)
     if missing:
         return missing
-    from freecad_ext import five_axis_finish  # its rule of which tools fit
-
     tool = inputs.tool
-    if not five_axis_finish.is_flat_end(tool):
+    if not compat.is_flat_end(tool):
         return (
             "Tool controller '%s' holds '%s', a %s tool; this operation needs a "
             "flat-end tool (ToolBit shape endmill.fcstd)."

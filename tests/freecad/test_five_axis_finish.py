@@ -156,12 +156,6 @@ class FiveAxisFinishTest(unittest.TestCase):
         self.assertLess(op.StripWidth.Value, 1.8)
         self.assertGreater(left.max(), 0.3 * op.ScallopHeight.Value)
 
-    def test_cylinder_patch(self):
-        self.run_case("Cylinder", cylinder_patch(), cylinder_face)
-
-    def test_bspline_saddle(self):
-        self.run_case("Saddle", Part.Shape(saddle()), lambda s: 1)
-
     def test_ball_end_refused_by_name(self):
         built = Built("FiveBall", tilted_plane())
         self.addCleanup(built.close)

@@ -255,6 +255,30 @@ std::vector<Run> clip_face(const PatchGrid& g, const TrimDomain& trim, bool tran
   return runs;
 }
 
+// The most the axis the machine interpolates (A and C linear between two
+// posted positions) may differ from the exact axis at the middle (radians):
+// the rim then moves by at most R x this (in the budget's axis term).
+constexpr double kAxisDeviation = 2e-4;
+
+// The axis halfway between two in the machine's interpolation: A and C of
+// each (C of the other where one is vertical, C unwrapped to the nearest
+// branch, as axes_to_ac() posts them), averaged.
+gp_Vec ac_midpoint(const gp_Vec& p, const gp_Vec& q) {
+  auto ac = [](const gp_Vec& v, double* A, double* C) {
+    const double s = std::hypot(v.X(), v.Y());
+    *A = std::atan2(s, v.Z());
+    *C = s < 1e-12 ? std::nan("") : std::atan2(v.X(), -v.Y());
+  };
+  double a1, c1, a2, c2;
+  ac(p, &a1, &c1);
+  ac(q, &a2, &c2);
+  if (std::isnan(c1)) c1 = std::isnan(c2) ? 0.0 : c2;
+  if (std::isnan(c2)) c2 = c1;
+  c2 += 2 * M_PI * std::round((c1 - c2) / (2 * M_PI));
+  const double A = 0.5 * (a1 + a2), C = 0.5 * (c1 + c2);
+  return gp_Vec(std::sin(A) * std::sin(C), -std::sin(A) * std::cos(C), std::cos(A));
+}
+
 // Phase 3: the tool posed along each run, refined until each move's
 // midpoint is within the chord tolerance and the axis turns by at most the
 // axis step; positions that gouge (after raising the lead), hit the model
@@ -357,7 +381,9 @@ class Poser {
     Posed x;
     if (!pose(m, gp_Vec(g_.eval(a.uv.u, a.uv.v), g_.eval(b.uv.u, b.uv.v)), &x)) return;
     const gp_Pnt mid((a.pose.tip.XYZ() + b.pose.tip.XYZ()) * 0.5);
-    if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord) return;
+    if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord &&
+        ac_midpoint(a.pose.axis, b.pose.axis).Angle(x.pose.axis) <= kAxisDeviation)
+      return;
     refine(a, x, level + 1, out);
     out->push_back(x);
     refine(x, b, level + 1, out);
@@ -442,7 +468,7 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
 Budget make_budget(const FiveAxisParams& p) {
   Budget b;
   b.posted = 0.5 * std::sqrt(3.0) * p.posted_resolution;
-  b.axis = p.tool_radius * (1 - std::cos(0.5 * p.max_axis_step * kDegree));
+  b.axis = p.tool_radius * kAxisDeviation;
   b.chord = p.chord_tolerance > 0 ? p.chord_tolerance : (p.scallop_height - b.posted - b.axis) / 4;
   if (!(p.scallop_height - b.error() > 0))
     throw InvalidArgument("scallop_height must exceed the chord tolerance, the posted rounding and "

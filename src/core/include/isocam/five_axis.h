@@ -67,10 +67,14 @@
 // The guarantees (stated, and measured by the tests from outside). Let c
 // be the chord tolerance, p = sqrt(3)/2 x posted_resolution, and g the
 // gouge tolerance. Between two posted positions the machine moves the tip
-// straight and the axis by at most max_axis_step (1 degree); each such move
-// is refined until its midpoint is within c of the exact tip, so the tool
-// rim is within e = c + p + R (1 - cos(max_axis_step / 2)) of an exact
-// position. The strips are spaced for h' = h - e, so
+// straight and A and C linearly; each move is refined until the axis turns
+// by at most max_axis_step (1 degree), the tip's midpoint is within c of the
+// exact tip, and the axis the machine interpolates at the middle is within
+// 2e-4 rad of the exact one (near A = 0, where C turns fast, this inserts
+// positions; a pass over the pole turns C there at a nearly vertical axis),
+// so the tool rim is within e = c + p + 2e-4 R of an exact position (checked
+// at the midpoints, not bounded between them). The strips are spaced for
+// h' = h - e, so
 //   guaranteed_scallop = e + max over adjacent pairs of D(c_pair / 2) <= h,
 // c_pair measured from each sample of a path to the next path. Nothing is
 // cut deeper than guaranteed_overcut = e + g below the picked face.
