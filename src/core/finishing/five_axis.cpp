@@ -95,14 +95,11 @@ struct Job {
   const ClearanceModel* model = nullptr;
   double shank_clear = 0;  // the query distance of the shank capsule
 
-  double lead_at(const ContactFrame& f, double kf, double ka) const {
-    (void)f;
-    return lead_for(lead, max_lead, p.tool_radius, kf, ka);
-  }
+  double lead_at(double kf, double ka) const { return lead_for(lead, max_lead, p.tool_radius, kf, ka); }
   // The edge at a frame with the lead the job uses there.
   EdgeProfile edge(const StripFrame& f) const {
     const ContactFrame c{f.p, f.normal, f.feed, f.across};
-    return EdgeProfile(c, p.tool_radius, lead_at(c, f.kappa_feed, f.kappa_across), tilt,
+    return EdgeProfile(c, p.tool_radius, lead_at(f.kappa_feed, f.kappa_across), tilt,
                        f.kappa_across);
   }
   double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
@@ -362,7 +359,7 @@ class Poser {
     if (!contact_frame(g_, uv, dir, &c)) return false;
     const double kf = normal_curvature(g_, uv, c.f), ka = normal_curvature(g_, uv, c.a);
     x->uv = uv;
-    x->lead = job_.lead_at(c, kf, ka);
+    x->lead = job_.lead_at(kf, ka);
     x->raised = x->lead > job_.lead + 1e-9;
     x->pose = pose_at(c, job_.p.tool_radius, x->lead, job_.tilt);
     // The exact check: raise the lead in 2 degree steps while the disc digs in.
@@ -574,7 +571,13 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
           if (t.cusp <= job.h_eff) break;
           target *= 0.98 * job.h_eff / t.cusp;
         }
-        if (!best_grid || t.length < best.length) {
+        // The direction that covers the face (no sampled gap wider than
+        // half the strip) and meets h' by its certificate, then the shorter.
+        auto meets = [&job](const Traced& x) {
+          return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
+        };
+        if (!best_grid || (meets(t) && !meets(best)) ||
+            (meets(t) == meets(best) && t.length < best.length)) {
           best = std::move(t);
           best_grid.emplace(std::move(g));
           best_transposed = tr;
