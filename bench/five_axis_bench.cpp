@@ -4,10 +4,13 @@
 // surface, the hill of the house on the hill and MAT: compute time, cutting
 // length, number of paths, machine time (tip moves at the rates; the 5-axis
 // rotary moves are not timed), the guarantees and the rotary travel.
-// Usage: isocam_five_axis_bench SOURCE_DIR  (writes bench/five_axis_results.md)
+// Usage: isocam_five_axis_bench SOURCE_DIR [CASE]  (writes
+// bench/five_axis_results.md; CASE: only that case, 0-based, to
+// bench/five_axis_results_CASE.md)
 #include <BRepGProp.hxx>
 #include <GProp_GProps.hxx>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <iomanip>
@@ -69,11 +72,14 @@ int main(int argc, char** argv) {
       {"MAT.brep", [] { return test::load("MAT.brep"); },
        [](const TopoDS_Shape&) { return std::vector<int>{0}; }, 0.01},
   };
+  const int only = argc > 2 ? std::atoi(argv[2]) : -1;
   std::ostringstream t;
   t << "| model (h) | tool, pattern | time (s) | cutting (mm) | paths | machine / cutting time (min) "
        "| guaranteed scallop / overcut (mm) | unreachable (mm) | rotary travel A / C (deg) |\n";
   t << "|---|---|---|---|---|---|---|---|---|\n";
-  for (const Case& c : cases) {
+  for (std::size_t ci = 0; ci < cases.size(); ++ci) {
+    if (only >= 0 && static_cast<std::size_t>(only) != ci) continue;
+    const Case& c = cases[ci];
     const TopoDS_Shape shape = c.shape();
     const std::vector<int> faces = c.faces(shape);
     auto row = [&](const std::string& tool, double secs, double cut, int paths, double machine,
@@ -113,7 +119,9 @@ int main(int argc, char** argv) {
           m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length, "-");
     }
   }
-  std::ofstream(root + "/bench/five_axis_results.md") << t.str();
+  std::ofstream(root + "/bench/five_axis_results" +
+                (only >= 0 ? "_" + std::to_string(only) : std::string()) + ".md")
+      << t.str();
   std::cout << t.str();
   return 0;
 }

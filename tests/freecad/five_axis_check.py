@@ -137,35 +137,41 @@ def line_cylinder(s, n, tips, axes, radius, length):
 
 def measure(points, normals, tips, axes, radius, length, reach=None):
     """Per sample: (left, overcut) as the module docstring says; left is
-    +inf where no tool instance passes within `reach` (default 2 R)."""
-    reach = 2.0 * radius if reach is None else reach
+    +inf where no tool instance's tip passes within `reach` (default R +
+    1.5 mm: the cutting end, whose bottom cuts at most a strip's half-width
+    (under 1.5 mm here) from the contact, and the first few mm of its side;
+    the shank higher up is not swept here)."""
+    reach = radius + 1.5 if reach is None else reach
     cell = reach
-    keys = np.floor(tips / cell).astype(np.int64)
-    buckets = {}
-    order = np.lexsort(keys.T)
-    sk = keys[order]
-    start = 0
-    for i in range(1, len(order) + 1):
-        if i == len(order) or np.any(sk[i] != sk[start]):
-            buckets[tuple(sk[start])] = order[start:i]
-            start = i
     left = np.full(len(points), np.inf)
     over = np.zeros(len(points))
-    for k, (s, n) in enumerate(zip(points, normals)):
-        c = np.floor(s / cell).astype(np.int64)
-        idx = [buckets[key] for key in (
-            (c[0] + a, c[1] + b, c[2] + d) for a in (-1, 0, 1) for b in (-1, 0, 1) for d in (-1, 0, 1)
-        ) if key in buckets]
-        if not idx:
+    if len(tips) == 0:
+        return left, over
+    # Samples grouped by cell; per cell, the instances near it once.
+    skeys = np.floor(points / cell).astype(np.int64)
+    order = np.lexsort(skeys.T)
+    sk = skeys[order]
+    start = 0
+    for i in range(1, len(order) + 1):
+        if i < len(order) and np.all(sk[i] == sk[start]):
             continue
-        idx = np.concatenate(idx)
-        near = idx[np.linalg.norm(tips[idx] - s, axis=1) <= reach]
-        if len(near) == 0:
+        group = order[start:i]
+        start = i
+        centre = (sk[group[0]] + 0.5) * cell
+        near_cell = np.linalg.norm(tips - centre, axis=1) <= reach + cell * math.sqrt(3) / 2
+        cand = np.nonzero(near_cell)[0]
+        if len(cand) == 0:
             continue
-        t0, t1 = line_cylinder(s, n, tips[near], axes[near], radius, length)
-        hit = t1 >= 0
-        if np.any(hit):
-            left[k] = max(0.0, float(np.min(t0[hit])))
-        if np.any(t0 < 0):
-            over[k] = float(np.max(-t0[t0 < 0]))
+        ct, ca = tips[cand], axes[cand]
+        for k in group:
+            s, n = points[k], normals[k]
+            near = np.linalg.norm(ct - s, axis=1) <= reach
+            if not np.any(near):
+                continue
+            t0, t1 = line_cylinder(s, n, ct[near], ca[near], radius, length)
+            hit = t1 >= 0
+            if np.any(hit):
+                left[k] = max(0.0, float(np.min(t0[hit])))
+            if np.any(t0 < 0):
+                over[k] = float(np.max(-t0[t0 < 0]))
     return left, over
