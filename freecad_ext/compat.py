@@ -388,6 +388,15 @@ def is_ball_end(tool):
     return shape in _BALL_END_SHAPES or shape.rstrip("0123456789") == "ballend"
 
 
+_FLAT_END_SHAPES = ("endmill", "flatendmill")
+
+
+def is_flat_end(tool):
+    """True if FreeCAD describes `tool` as a flat end mill (ToolBit endmill,
+    legacy EndMill)."""
+    return tool_shape(tool).lower().rstrip("0123456789") in _FLAT_END_SHAPES
+
+
 def tool_label(tool):
     """A name for the tool to put in messages."""
     return str(getattr(tool, "Label", None) or getattr(tool, "Name", None) or tool)

@@ -99,6 +99,21 @@ OPERATIONS = (
         selection=FLOOR_FACES,
         rules=(("tool",),),
     ),
+    OperationSpec(
+        module="freecad_ext.five_axis_finish",
+        name="FiveAxisStripFinish",
+        menu_text="5-Axis Strip Finish",
+        tooltip="5-axis finishing of the picked faces with a flat-end tool tilted "
+        "by a lead angle (Lee 1998): strips several times wider than a ball's at "
+        "the same scallop height; posted with A and C for a table-tilting A/C "
+        "machine with tool-centre-point control.",
+        selection=FACES,
+        rules=(
+            ("faces",),
+            ("flat_end",),
+            ("positive", "ScallopHeight"),
+        ),
+    ),
 )
 
 
@@ -213,6 +228,24 @@ def _ball_end(inputs):
     return None
 
 
+def _flat_end(inputs):
+    missing = _tool(inputs)
+    if missing:
+        return missing
+    tool = inputs.tool
+    if not compat.is_flat_end(tool):
+        return (
+            "Tool controller '%s' holds '%s', a %s tool; this operation needs a "
+            "flat-end tool (ToolBit shape endmill.fcstd)."
+            % (
+                inputs.tool_controller.Label,
+                compat.tool_label(tool),
+                compat.tool_shape(tool) or "unknown",
+            )
+        )
+    return None
+
+
 def _positive(inputs, prop):
     value = inputs.values.get(prop)
     if value is None:
@@ -251,6 +284,7 @@ RULES = {
     "faces": _faces,
     "tool": _tool,
     "ball_end": _ball_end,
+    "flat_end": _flat_end,
     "positive": _positive,
     "not_negative": _not_negative,
     "below_ball_radius": _below_ball_radius,

@@ -23,6 +23,7 @@ namespace py = pybind11;
 using namespace isocam;
 
 void bind_pocketing(py::module_& m);  // bind_pocketing.cpp
+void bind_five_axis(py::module_& m);  // bind_five_axis.cpp
 
 namespace {
 
@@ -250,5 +251,6 @@ PYBIND11_MODULE(isocam_core, m) {
       "Raises ValueError for bad arguments, RuntimeError for geometry failures,\n"
       "CancelledError when progress.cancel() was called.");
   bind_pocketing(m);
+  bind_five_axis(m);
   known = argument_names(m);
 }

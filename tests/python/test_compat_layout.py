@@ -323,6 +323,13 @@ class OperationsTable(unittest.TestCase):
             self.assertEqual(len(messages), 1, (kwargs, messages))
             self.assertIn(reason, messages[0])
 
+    def test_five_axis_row_wants_a_flat_end(self):
+        five = self.ops.spec_named("FiveAxisStripFinish")
+        self.assertEqual(self.ops.check(five, self.inputs(shape="endmill.fcstd")), [])
+        messages = self.ops.check(five, self.inputs(shape="ballend.fcstd"))
+        self.assertEqual(len(messages), 1, messages)
+        self.assertIn("needs a flat-end tool", messages[0])
+
     def test_no_tool_controller(self):
         inputs = self.ops.Inputs({"ScallopHeight": 0.01}, None, [("M", "Face1")])
         self.assertIn("No tool controller", self.ops.check(self.isocurve, inputs)[0])

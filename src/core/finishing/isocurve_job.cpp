@@ -1,9 +1,15 @@
-// The entry point of adaptive isocurve finishing: checks the arguments,
-// builds each picked face's patch grid, trimmed domain and the clearance
-// model, runs Algorithm 1 (or the uniform baseline) per face and direction,
-// and assembles the path and its certificate.
+// The entry point of adaptive isocurve finishing, a short driver
+// (adaptive_isocurve() at the end) over named phases, each with its own
+// contract: plan_job (the arguments checked, the budgets split, the work
+// budget), build_model (each face's patch grid, trimmed domain and the
+// clearance model), cut_pattern (ParallelPlanes, ConstantScallop, or
+// Algorithm 1 / the uniform baseline per face and direction: plan_faces,
+// choose_directions, cut_chosen), link_pieces (coverage.h), certify (the
+// measured lengths and times, the two guarantees).
 #include <algorithm>
 #include <cstdio>
+#include <deque>
+#include <limits>
 #include <utility>
 #include <cmath>
 #include <iterator>
@@ -188,236 +194,341 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
   }
 }
 
+// ---- The phases of adaptive_isocurve(), in the order it runs them. ----
+
+// The job's numbers: the user's parameters checked, the budgets split
+// (the chord tolerance derived or checked) and the flat-ground stepover
+// for the cusp the budget leaves (stepover.h). Refuses a job over the work
+// budget before any work.
+struct JobPlan {
+  IsoParams params;  // the user's, with the chord tolerance used
+  ErrorBudget budget;
+  double delta = 0.0;
+};
+
+JobPlan plan_job(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces,
+                 const IsoParams& user_params) {
+  check_faces(faces, all.size());
+  validate(user_params);
+  JobPlan job{user_params, split_budget(user_params), 0.0};
+  job.params.chord_tolerance = job.budget.chord;
+  job.delta = stepover_chord_with_error(job.params.ball_radius, job.params.scallop_height, 0.0,
+                                        job.budget.centre_error());
+  check_job_budget(all, faces, user_params, job.params, job.delta);
+  return job;
+}
+
+// The faces the ball is kept clear of: every picked face, and with
+// protect_unpicked_faces every other face of the model (the manufacturing
+// offset of the union, section 3 of the paper). Each has its grid and
+// trimmed domain; the clearance model refers to both, so they live in a
+// deque, whose elements stay where they are while it grows.
+struct ModelFaces {
+  std::deque<PickedFace> faces;
+  std::vector<std::size_t> picked;  // per picked face (in the order given), its place in faces
+};
+
+// Phase 1: the model. A picked face that OpenCASCADE cannot take is an
+// error naming it; an unpicked one is left unprotected with a warning. A
+// picked open face turned down is finished from its upper side, the side a
+// vertical tool reaches (the grid's normal follows the face's orientation,
+// so the face is taken reversed), with a warning.
+ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& all,
+                       const std::vector<int>& faces, const IsoParams& params,
+                       ClearanceModel& model, std::vector<std::string>& warnings) {
+  ModelFaces mf;
+  mf.picked.assign(faces.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const int f = static_cast<int>(i);
+    const auto at = std::find(faces.begin(), faces.end(), f);
+    const bool is_picked = at != faces.end();
+    if (!is_picked && !params.protect_unpicked_faces) continue;
+    TopoDS_Face face = all[i];
+    bool turned = false;
+    try {
+      PickedFace& pf =
+          mf.faces.emplace_back(PickedFace{f, PatchGrid::from_face(face, f), std::nullopt});
+      if (is_picked && open_face_turned_down(shape, face, pf.grid)) {
+        face = TopoDS::Face(face.Reversed());
+        turned = true;
+        pf.grid = PatchGrid::from_face(face, f);
+      }
+      pf.trim.emplace(face, pf.grid, f);
+      model.add(pf.grid, &*pf.trim);
+    } catch (const Standard_Failure& e) {
+      if (is_picked)
+        throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+      warnings.push_back(face_label(f) + " is not protected from the ball: " + e.GetMessageString());
+      continue;
+    } catch (const GeometryError& e) {
+      if (is_picked) throw;
+      warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
+      continue;
+    }
+    if (is_picked) {
+      mf.picked[static_cast<std::size_t>(at - faces.begin())] = mf.faces.size() - 1;
+      if (turned)
+        warnings.push_back(face_label(f) +
+                           " is an open face whose orientation puts the material above it: "
+                           "finished from its upper side, the side a vertical tool reaches "
+                           "(the face taken reversed)");
+    }
+  }
+  model.build();
+  return mf;
+}
+
+// What a pattern hands to linking and to the certificate.
+struct PatternCut {
+  std::vector<CutPiece> pieces;
+  std::vector<std::shared_ptr<const PatchGrid>> working;  // grids the pieces refer to
+  double max_dist = 0.0;     // the largest distance between neighbouring passes
+  double max_scallop = 0.0;  // the certified scallop (see the header per pattern)
+};
+
+// L* of the picked faces (the lower bound the certificate compares with).
+double lower_bound_of(const ModelFaces& mf, const IsoParams& params) {
+  double sum = 0.0;
+  for (std::size_t k : mf.picked)
+    sum += lower_bound_length(mf.faces[k].grid, &*mf.faces[k].trim, params.ball_radius,
+                              params.scallop_height);
+  return sum;
+}
+
+// Phase 2, ParallelPlanes: all faces share one set of planes, so they are
+// cut together (parallel_planes.cpp).
+PatternCut cut_parallel_planes(const ModelFaces& mf, const JobPlan& job,
+                               const ClearanceModel& model, IsoResult& result, Progress* progress) {
+  std::vector<PlaneFace> plane_faces;
+  for (std::size_t k : mf.picked)
+    plane_faces.push_back({mf.faces[k].index, &mf.faces[k].grid, &*mf.faces[k].trim});
+  PlanePieces cut = parallel_plane_pieces(plane_faces, job.delta, job.params, model, progress);
+  result.plane_axis = cut.axis;
+  result.face_direction.assign(mf.picked.size(), IsoDirection::Auto);
+  result.metrics.sub_isocurves = cut.curves;
+  result.metrics.unreachable_length = cut.unreachable_length;
+  result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
+  result.metrics.delta_max = job.delta;
+  result.metrics.lower_bound_length = lower_bound_of(mf, job.params);
+  PatternCut out;
+  out.max_dist = cut.max_pass_distance;
+  // Not a certificate: the flat-ground scallop of the largest pass
+  // distance (see the header).
+  const double e = job.budget.centre_error();
+  const double r = job.params.ball_radius;
+  out.max_scallop = e + scallop_for_stepover(r - e, std::min(out.max_dist, 2 * (r - e)));
+  out.pieces = std::move(cut.pieces);
+  return out;
+}
+
+// Phase 2, ConstantScallop: its own engine per face (constant_scallop.cpp).
+// The strips are spaced for the whole scallop height (the engine does not
+// split the budget yet: spaced for h - e it loses paths on a sphere cap), so
+// the guarantee, which adds the centres' error e = chord + posted rounding
+// to the measured cusp, can exceed h by e.
+PatternCut cut_constant_scallop(const ModelFaces& mf, const JobPlan& job,
+                                const ClearanceModel& model, IsoResult& result,
+                                Progress* progress) {
+  std::vector<ScallopFace> scallop_faces;
+  for (std::size_t k : mf.picked)
+    scallop_faces.push_back({mf.faces[k].index, &mf.faces[k].grid, &*mf.faces[k].trim});
+  ScallopPieces cut = constant_scallop_pieces(scallop_faces, job.params, model, progress);
+  result.face_direction = cut.face_direction;
+  result.metrics.sub_isocurves = cut.curves;
+  result.metrics.unreachable_length = cut.unreachable_length;
+  result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
+  result.metrics.delta_max = cut.max_width;
+  result.metrics.lower_bound_length = lower_bound_of(mf, job.params);
+  result.warnings.insert(result.warnings.end(), cut.warnings.begin(), cut.warnings.end());
+  PatternCut out;
+  out.max_dist = cut.max_spacing;
+  out.max_scallop = job.budget.centre_error() + cut.guaranteed_scallop;
+  out.pieces = std::move(cut.pieces);
+  return out;
+}
+
+// Phase 2a, Adaptive and Uniform: every (face, direction) planned as a task
+// on several threads (two directions of one face share its trimmed domain,
+// whose hatcher is locked); progress 0 to 0.6. Index: face * directions +
+// direction.
+std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDirection>& dirs,
+                                   const JobPlan& job, Progress* progress) {
+  const std::size_t nd = dirs.size();
+  const double nf = double(mf.picked.size());
+  const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
+  std::vector<FaceResult> tried(mf.picked.size() * nd);
+  for_each_index(tried.size(), job.params.threads, [&](std::size_t k) {
+    const std::size_t f = k / nd, di = k % nd;
+    const PickedFace& face = mf.faces[mf.picked[f]];
+    try {
+      const double lo = (double(f) + double(di) / double(nd)) / nf;
+      const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
+      tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.sub(lo, hi));
+      if (di == 0)
+        tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, job.params.ball_radius,
+                                                  job.params.scallop_height);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+  });
+  return tried;
+}
+
+// Phase 2b: per face, the first direction tried unless another plans
+// strictly less (the face's L* kept whichever wins).
+std::vector<FaceResult> choose_directions(std::vector<FaceResult> tried, std::size_t nd) {
+  std::vector<FaceResult> chosen(tried.size() / nd);
+  for (std::size_t f = 0; f < chosen.size(); ++f) {
+    std::size_t best = f * nd;
+    for (std::size_t di = 1; di < nd; ++di)
+      if (tried[f * nd + di].planned_length < tried[best].planned_length) best = f * nd + di;
+    const double lower_bound = tried[f * nd].lower_bound;
+    chosen[f] = std::move(tried[best]);
+    chosen[f].lower_bound = lower_bound;
+  }
+  return chosen;
+}
+
+// Phase 2c: the chosen curves cut against the model, in ranges of
+// kCurvesPerTask curves as tasks, merged in face and curve order, so that
+// the result does not depend on the number of threads; each face's stats
+// gathered. Progress 0.6 to 0.95.
+constexpr std::size_t kCurvesPerTask = 8;  // small enough to balance two faces on many threads
+
+std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFaces& mf,
+                                 const JobPlan& job, const ClearanceModel& model,
+                                 Progress* progress) {
+  struct Range {
+    std::size_t face, first, last;
+  };
+  std::vector<Range> ranges;
+  for (std::size_t f = 0; f < chosen.size(); ++f)
+    for (std::size_t i = 0; i < chosen[f].planned.size(); i += kCurvesPerTask)
+      ranges.push_back({f, i, std::min(i + kCurvesPerTask, chosen[f].planned.size())});
+  std::vector<std::vector<CutPiece>> cut(ranges.size());
+  std::vector<FacePathStats> cut_stats(ranges.size());
+  std::size_t cut_done = 0;
+  std::mutex cut_lock;  // the count and the progress it reports
+  for_each_index(ranges.size(), job.params.threads, [&](std::size_t k) {
+    check_cancel(progress);
+    const Range& rg = ranges[k];
+    const FaceResult& fr = chosen[rg.face];
+    try {
+      cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
+                           job.params, model, &cut_stats[k]);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(mf.faces[mf.picked[rg.face]].index) +
+                          ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+    const std::lock_guard<std::mutex> guard(cut_lock);
+    report_progress(progress, 0.6 + 0.35 * double(++cut_done) / double(ranges.size()));
+  });
+  std::vector<CutPiece> pieces;
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    FacePathStats& stats = chosen[ranges[k].face].stats;
+    stats.curves += cut_stats[k].curves;
+    stats.unreachable_length += cut_stats[k].unreachable_length;
+    stats.unreachable_from_above += cut_stats[k].unreachable_from_above;
+    std::move(cut[k].begin(), cut[k].end(), std::back_inserter(pieces));
+  }
+  return pieces;
+}
+
+// Phase 2, Adaptive and Uniform (Algorithm 1 or the uniform baseline per
+// face): plan, choose the direction, cut; the faces' curves, directions and
+// stats into the result.
+PatternCut cut_isocurves(const ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
+                         IsoResult& result, Progress* progress) {
+  const std::vector<IsoDirection> dirs = directions_to_try(job.params);
+  std::vector<FaceResult> chosen =
+      choose_directions(plan_faces(mf, dirs, job, progress), dirs.size());
+  PatternCut out;
+  out.pieces = cut_chosen(chosen, mf, job, model, progress);
+  for (FaceResult& best : chosen) {
+    result.curves.insert(result.curves.end(), best.coverage.curves.begin(),
+                         best.coverage.curves.end());
+    result.face_direction.push_back(best.dir);
+    result.metrics.sub_isocurves += best.stats.curves;
+    result.metrics.unreachable_length += best.stats.unreachable_length;
+    result.metrics.unreachable_from_above_length += best.stats.unreachable_from_above;
+    out.max_dist = std::max(out.max_dist, best.coverage.max_iso_distance);
+    out.max_scallop = std::max(out.max_scallop, best.coverage.guaranteed_scallop);
+    result.metrics.lower_bound_length += best.lower_bound;
+    result.metrics.delta_max = std::max(result.metrics.delta_max, best.delta_max);
+    out.working.push_back(best.grid);
+  }
+  return out;
+}
+
+PatternCut cut_pattern(const ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
+                       IsoResult& result, Progress* progress) {
+  switch (job.params.pattern) {
+    case IsoPattern::ParallelPlanes:
+      return cut_parallel_planes(mf, job, model, result, progress);
+    case IsoPattern::ConstantScallop:
+      return cut_constant_scallop(mf, job, model, result, progress);
+    default:
+      return cut_isocurves(mf, job, model, result, progress);
+  }
+}
+
+// The safe height must clear every cutting point of the linked path.
+void check_safe_z(const Toolpath& path, double safe_z) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < path.size(); ++i)
+    if (path.kind[i] != static_cast<std::uint8_t>(MoveKind::Rapid)) top = std::max(top, path.z[i]);
+  if (safe_z < top)
+    throw InvalidArgument("safe_z (" + std::to_string(safe_z) +
+                          " mm) is below the highest cutting point of the path (" +
+                          std::to_string(top) + " mm)");
+}
+
+// Phase 4: the certificate: lengths and times measured on the linked path,
+// the two guarantees from the pattern's cut and the budget.
+void certify(IsoResult& result, const PatternCut& cut, const JobPlan& job) {
+  IsoMetrics& m = result.metrics;
+  if (m.unreachable_from_above_length > 0)
+    result.warnings.push_back(
+        mm(m.unreachable_from_above_length) +
+        " mm of tool-centre path left out: a vertical tool cannot reach those places from above "
+        "(undersides, places under an overhang); material is left there");
+  const PathLengths len = measure(result.path);
+  m.cutting_length = len.feed;
+  m.rapid_length = len.rapid;
+  m.plunge_length = len.plunge + len.ramp;
+  m.retracts = len.retracts;
+  m.max_iso_distance = cut.max_dist;
+  m.guaranteed_scallop = cut.max_scallop;
+  m.guaranteed_overcut = job.budget.overcut();
+  m.chord_tolerance = job.budget.chord;
+  const PathTimes times = estimate_time(result.path, job.params.feed_rate, job.params.plunge_rate,
+                                        job.params.rapid_rate);
+  m.machine_time = times.total;
+  m.cutting_time = times.feed;
+}
+
 }  // namespace
 
+// The driver: the job's numbers, the model, the pattern's pieces, linking
+// (coverage.h: link_pieces), the certificate.
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
                             const IsoParams& user_params, Progress* progress) {
   // The shape first: a shape without faces is that, whatever the numbers.
   if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty (no faces)");
   const std::vector<TopoDS_Face> all = faces_of(shape);
   if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
-  check_faces(faces, all.size());
-  validate(user_params);
-  const ErrorBudget budget = split_budget(user_params);
-  IsoParams params = user_params;  // with the chord tolerance used
-  params.chord_tolerance = budget.chord;
-  // The flat-ground stepover for the cusp the budget leaves (stepover.h).
-  const double delta = stepover_chord_with_error(params.ball_radius, params.scallop_height, 0.0,
-                                                 budget.centre_error());
-  check_job_budget(all, faces, user_params, params, delta);
+  const JobPlan job = plan_job(all, faces, user_params);
   IsoResult result;
-  result.metrics.delta = delta;
-  // Every picked face gets its grid and trimmed domain and is kept clear of
-  // the ball; with protect_unpicked_faces so is every other face of the
-  // model (the manufacturing offset of the union, section 3 of the paper).
-  std::vector<PickedFace> model_faces;
-  model_faces.reserve(all.size());
-  std::vector<std::size_t> picked(faces.size(), all.size());
+  result.metrics.delta = job.delta;
   // Its accuracy is the gouge tolerance: the queries keep the ball at
   // r - chord_tolerance - gouge_tolerance (query_distance()).
-  ClearanceModel model(params.gouge_tolerance, 2.0 * params.ball_radius);
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const int f = static_cast<int>(i);
-    const auto at = std::find(faces.begin(), faces.end(), f);
-    if (at == faces.end() && !params.protect_unpicked_faces) continue;
-    // A picked open face turned down is finished from its upper side: the
-    // side a vertical tool reaches (the grid's normal follows the face's
-    // orientation, so the face is taken reversed).
-    TopoDS_Face face = all[i];
-    bool turned = false;
-    try {
-      model_faces.push_back({f, PatchGrid::from_face(face, f), std::nullopt});
-      if (at != faces.end() && open_face_turned_down(shape, face, model_faces.back().grid)) {
-        face = TopoDS::Face(face.Reversed());
-        turned = true;
-        model_faces.back().grid = PatchGrid::from_face(face, f);
-      }
-      model_faces.back().trim.emplace(face, model_faces.back().grid, f);  // reserve(): stable
-      model.add(model_faces.back().grid, &*model_faces.back().trim);
-    } catch (const Standard_Failure& e) {
-      if (at != faces.end())
-        throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
-      result.warnings.push_back(face_label(f) + " is not protected from the ball: " +
-                                e.GetMessageString());
-      continue;
-    } catch (const GeometryError& e) {
-      if (at != faces.end()) throw;
-      result.warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
-      continue;
-    }
-    if (at != faces.end()) {
-      picked[static_cast<std::size_t>(at - faces.begin())] = model_faces.size() - 1;
-      if (turned)
-        result.warnings.push_back(
-            face_label(f) + " is an open face whose orientation puts the material above it: "
-                            "finished from its upper side, the side a vertical tool reaches "
-                            "(the face taken reversed)");
-    }
-  }
-  model.build();
-  double max_dist = 0.0, max_scallop = 0.0;
-  const double nf = double(faces.size());
-  std::vector<std::shared_ptr<const PatchGrid>> working;  // keeps the pieces' grids alive
-  std::vector<CutPiece> pieces;
-  // ParallelPlanes: all faces share one set of planes, so they are cut
-  // together (parallel_planes.cpp) and the per-face work below has none.
-  const bool planes = params.pattern == IsoPattern::ParallelPlanes;
-  if (planes) {
-    std::vector<PlaneFace> plane_faces;
-    for (std::size_t k : picked)
-      plane_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
-    PlanePieces cut = parallel_plane_pieces(plane_faces, delta, params, model, progress);
-    result.plane_axis = cut.axis;
-    result.face_direction.assign(picked.size(), IsoDirection::Auto);
-    result.metrics.sub_isocurves = cut.curves;
-    result.metrics.unreachable_length = cut.unreachable_length;
-    result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
-    max_dist = cut.max_pass_distance;
-    // Not a certificate: the flat-ground scallop of the largest pass
-    // distance (see the header).
-    const double e = budget.centre_error();
-    max_scallop = e + scallop_for_stepover(params.ball_radius - e,
-                                           std::min(max_dist, 2 * (params.ball_radius - e)));
-    result.metrics.delta_max = delta;
-    for (std::size_t k : picked)
-      result.metrics.lower_bound_length +=
-          lower_bound_length(model_faces[k].grid, &*model_faces[k].trim, params.ball_radius,
-                             params.scallop_height);
-    pieces = std::move(cut.pieces);
-  }
-  // ConstantScallop: its own engine per face (constant_scallop.cpp); its
-  // pieces join the others' linking below.
-  const bool scallop = params.pattern == IsoPattern::ConstantScallop;
-  if (scallop) {
-    std::vector<ScallopFace> scallop_faces;
-    for (std::size_t k : picked)
-      scallop_faces.push_back({model_faces[k].index, &model_faces[k].grid, &*model_faces[k].trim});
-    // The strips are spaced for the whole scallop height (the engine does
-    // not split the budget yet: spaced for h - e it loses paths on a sphere
-    // cap), so the guarantee, which adds the centres' error e = chord +
-    // posted rounding to the measured cusp, can exceed h by e.
-    const double e = budget.centre_error();
-    ScallopPieces cut = constant_scallop_pieces(scallop_faces, params, model, progress);
-    result.face_direction = cut.face_direction;
-    result.metrics.sub_isocurves = cut.curves;
-    result.metrics.unreachable_length = cut.unreachable_length;
-    result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
-    result.metrics.delta_max = cut.max_width;
-    max_dist = cut.max_spacing;
-    max_scallop = e + cut.guaranteed_scallop;
-    result.warnings.insert(result.warnings.end(), cut.warnings.begin(), cut.warnings.end());
-    for (std::size_t k : picked)
-      result.metrics.lower_bound_length +=
-          lower_bound_length(model_faces[k].grid, &*model_faces[k].trim, params.ball_radius,
-                             params.scallop_height);
-    pieces = std::move(cut.pieces);
-  }
-  // Faces, and the directions of one face under Auto, are independent until
-  // linking: plan them as tasks (face, direction) on several threads (two
-  // directions of one face share its trimmed domain, whose hatcher is
-  // locked) and pick each face's direction by the length planned. Then the
-  // chosen curves are cut against the model, in ranges of a few curves as
-  // tasks again, and merged in face and curve order, so that the result
-  // does not depend on the number of threads.
-  const std::vector<IsoDirection> dirs = directions_to_try(params);
-  const std::size_t nd = dirs.size();
-  const std::size_t tasks = planes || scallop ? 0 : picked.size() * nd;
-  const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
-  std::vector<FaceResult> tried(tasks);
-  for_each_index(tasks, params.threads, [&](std::size_t k) {
-    const std::size_t f = k / nd, di = k % nd;
-    const PickedFace& face = model_faces[picked[f]];
-    try {
-      const double lo = (double(f) + double(di) / double(nd)) / nf;
-      const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
-      tried[k] = face_in_direction(face, dirs[di], params, budget, planning.sub(lo, hi));
-      if (di == 0)
-        tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, params.ball_radius,
-                                                  params.scallop_height);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
-    }
-  });
-  // Per face, the first direction tried unless another plans strictly less.
-  std::vector<FaceResult> done(planes || scallop ? 0 : picked.size());
-  for (std::size_t f = 0; f < done.size(); ++f) {
-    std::size_t best = f * nd;
-    for (std::size_t di = 1; di < nd; ++di)
-      if (tried[f * nd + di].planned_length < tried[best].planned_length) best = f * nd + di;
-    const double lower_bound = tried[f * nd].lower_bound;  // of the face, not the direction
-    done[f] = std::move(tried[best]);
-    done[f].lower_bound = lower_bound;
-  }
-  struct Range {
-    std::size_t face, first, last;
-  };
-  std::vector<Range> ranges;
-  for (std::size_t f = 0; f < done.size(); ++f)
-    for (std::size_t i = 0; i < done[f].planned.size(); i += 8)
-      ranges.push_back({f, i, std::min(i + 8, done[f].planned.size())});
-  std::vector<std::vector<CutPiece>> cut(ranges.size());
-  std::vector<FacePathStats> cut_stats(ranges.size());
-  std::size_t cut_done = 0;
-  std::mutex cut_lock;  // the count and the progress it reports
-  for_each_index(ranges.size(), params.threads, [&](std::size_t k) {
-    check_cancel(progress);
-    const Range& rg = ranges[k];
-    const FaceResult& fr = done[rg.face];
-    try {
-      cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
-                           params, model, &cut_stats[k]);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(model_faces[picked[rg.face]].index) +
-                          ": OpenCASCADE failed: " + e.GetMessageString());
-    }
-    const std::lock_guard<std::mutex> guard(cut_lock);
-    report_progress(progress, 0.6 + 0.35 * double(++cut_done) / double(ranges.size()));
-  });
-  for (std::size_t k = 0; k < ranges.size(); ++k) {
-    done[ranges[k].face].stats.curves += cut_stats[k].curves;
-    done[ranges[k].face].stats.unreachable_length += cut_stats[k].unreachable_length;
-    done[ranges[k].face].stats.unreachable_from_above += cut_stats[k].unreachable_from_above;
-    std::move(cut[k].begin(), cut[k].end(), std::back_inserter(pieces));
-  }
-  for (FaceResult& best : done) {
-    result.curves.insert(result.curves.end(), best.coverage.curves.begin(), best.coverage.curves.end());
-    result.face_direction.push_back(best.dir);
-    result.metrics.sub_isocurves += best.stats.curves;
-    result.metrics.unreachable_length += best.stats.unreachable_length;
-    result.metrics.unreachable_from_above_length += best.stats.unreachable_from_above;
-    max_dist = std::max(max_dist, best.coverage.max_iso_distance);
-    max_scallop = std::max(max_scallop, best.coverage.guaranteed_scallop);
-    result.metrics.lower_bound_length += best.lower_bound;
-    result.metrics.delta_max = std::max(result.metrics.delta_max, best.delta_max);
-    working.push_back(best.grid);
-  }
-  if (result.metrics.unreachable_from_above_length > 0)
-    result.warnings.push_back(
-        mm(result.metrics.unreachable_from_above_length) +
-        " mm of tool-centre path left out: a vertical tool cannot reach those places from above "
-        "(undersides, places under an overhang); material is left there");
-  result.path = link_pieces(std::move(pieces), params, model);
+  ClearanceModel model(job.params.gouge_tolerance, 2.0 * job.params.ball_radius);
+  const ModelFaces mf = build_model(shape, all, faces, job.params, model, result.warnings);
+  PatternCut cut = cut_pattern(mf, job, model, result, progress);
+  result.path = link_pieces(std::move(cut.pieces), job.params, model);
   report_progress(progress, 1.0);
-  double top = -1e300;
-  for (std::size_t i = 0; i < result.path.size(); ++i)
-    if (result.path.kind[i] != static_cast<std::uint8_t>(MoveKind::Rapid)) top = std::max(top, result.path.z[i]);
-  if (params.safe_z < top)
-    throw InvalidArgument("safe_z (" + std::to_string(params.safe_z) +
-                          " mm) is below the highest cutting point of the path (" +
-                          std::to_string(top) + " mm)");
-  const PathLengths len = measure(result.path);
-  result.metrics.cutting_length = len.feed;
-  result.metrics.rapid_length = len.rapid;
-  result.metrics.plunge_length = len.plunge + len.ramp;
-  result.metrics.retracts = len.retracts;
-  result.metrics.max_iso_distance = max_dist;
-  result.metrics.guaranteed_scallop = max_scallop;
-  result.metrics.guaranteed_overcut = budget.overcut();
-  result.metrics.chord_tolerance = budget.chord;
-  const PathTimes times = estimate_time(result.path, params.feed_rate, params.plunge_rate,
-                                        params.rapid_rate);
-  result.metrics.machine_time = times.total;
-  result.metrics.cutting_time = times.feed;
+  check_safe_z(result.path, job.params.safe_z);
+  certify(result, cut, job);
   return result;
 }
 

@@ -1,0 +1,316 @@
+"""5-axis strip finishing with a tilted flat-end tool, as a FreeCAD Path operation.
+
+Thin operation (ENGINEERING.md, habit 6): ``opExecute`` maps the op's
+properties and its flat-end tool controller to ``isocam_core.FiveAxisParams``,
+runs ``isocam_core.five_axis_finish`` on the picked faces in a worker thread
+and turns the returned flat arrays (move kind, tip, rotary angles) into
+``Path.Command``s with X Y Z A C words. The geometry is the core's
+(src/core/include/isocam/five_axis.h, after Y.S. Lee 1998).
+
+The machine convention (also written as a comment at the head of the op's
+commands, so it reaches the posted G-code):
+
+* a table-tilting A/C machine with tool-centre-point control (TCP): X Y Z
+  are the TOOL TIP, the centre of the flat bottom face, in the part's
+  (work) frame, and the controller keeps the tip there while the table turns;
+* the tool axis relative to the part is (sin A sin C, -sin A cos C, cos A);
+* A stays within [AMin, AMax] (default 0..90 degrees); C is unwrapped: each
+  move takes the C branch nearest the previous one (no 360 degree unwinds
+  between neighbours), and where A is 0 C keeps its previous value.
+
+The tool axis at a contact point is the surface normal tilted by LeadAngle
+along the feed (and TiltAngle across it); on concave ground tighter than the
+flat bottom allows, the core raises the lead there (up to MaxLeadAngle) so
+that the heel does not dig in (rear gouge), and says so in the report view.
+Errors follow the other IsoCAM ops: the message names the property or tool,
+the op's Path is emptied and the op is marked invalid.
+"""
+
+import threading
+import time
+
+import FreeCAD
+import Path
+
+from freecad_ext import compat, op_base
+from freecad_ext.adaptive_isocurve import machine_seconds
+from freecad_ext.compat import PathOp
+from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
+
+__title__ = "IsoCAM 5-Axis Strip Finish operation"
+
+OP_NAME = "FiveAxisStripFinish"
+
+DIRECTIONS = ("Auto", "U", "V")
+_ENUMERATIONS = {"Direction": DIRECTIONS}
+
+# The G-code comment header (no parentheses inside: rs274 does not nest them).
+HEADER = (
+    "IsoCAM 5-axis strip finish: table-tilting A/C machine with TCP",
+    "X Y Z = tool tip = centre of the flat bottom, part frame",
+    "tool axis relative to the part = [sin A sin C, -sin A cos C, cos A]",
+)
+
+_GROUP = "5-Axis Strip Finish"
+_INPUTS = (
+    ("App::PropertyLength", "ScallopHeight", _GROUP,
+     "Largest scallop height left between adjacent passes; sets the strip width.", 0.01),
+    ("App::PropertyAngle", "LeadAngle", _GROUP,
+     "Tilt of the tool axis from the surface normal towards the feed (degrees, > 0). "
+     "Smaller: wider strips; the core raises it where concave ground needs more.", 5.0),
+    ("App::PropertyAngle", "TiltAngle", _GROUP,
+     "Tilt of the tool axis across the feed (degrees), e.g. to reach past a wall.", 0.0),
+    ("App::PropertyAngle", "MaxLeadAngle", _GROUP,
+     "The most the lead may be raised to keep the flat bottom off concave ground.", 45.0),
+    ("App::PropertyAngle", "AMin", _GROUP, "Lowest A of the machine (degrees).", 0.0),
+    ("App::PropertyAngle", "AMax", _GROUP, "Highest A of the machine (degrees).", 90.0),
+    ("App::PropertyLength", "ToolLength", _GROUP,
+     "Length of the tool above the tip kept clear of the model (shank and holder "
+     "as a cylinder of the tool's diameter).", 30.0),
+    ("App::PropertyEnumeration", "Direction", _GROUP,
+     "Start path: V (the face's v = vmin boundary), U (u = umin), or Auto (the "
+     "shorter paths per face).", "Auto"),
+    ("App::PropertyBool", "ProtectModel", _GROUP,
+     "Keep the shank clear of every face of the model, not only the picked ones.", True),
+    ("App::PropertyInteger", "PostPrecision", _GROUP,
+     "Decimals of the coordinates the post-processor writes (linuxcnc: 3).", 3),
+    ("App::PropertyLength", "AirClearance", _GROUP,
+     "Approach and retract distance along the tool axis.", 1.0),
+    ("App::PropertyFloat", "RapidRate", _GROUP, "Rapid rate in mm/min for MachineTime.", 5000.0),
+)
+
+_OUTPUTS = (
+    ("App::PropertyLength", "CuttingLength", "cutting_length", "Length of the feed moves (tip)"),
+    ("App::PropertyLength", "RapidLength", "rapid_length", "Length of the rapid moves (tip)"),
+    ("App::PropertyInteger", "Passes", "paths", "Number of paths traced"),
+    ("App::PropertyLength", "StripWidth", "flat_strip_width",
+     "Strip width on flat ground at LeadAngle (2 x_h)"),
+    ("App::PropertyLength", "MaxSpacing", "max_spacing", "Largest measured distance between adjacent paths"),
+    ("App::PropertyLength", "GuaranteedScallop", "guaranteed_scallop",
+     "Measured cusp between adjacent paths plus the positions' error (<= ScallopHeight)"),
+    ("App::PropertyLength", "GuaranteedOvercut", "guaranteed_overcut",
+     "Deepest cut below the picked faces: chord + posted rounding + axis step + gouge check"),
+    ("App::PropertyLength", "UnreachableLength", "unreachable_length",
+     "Path left out: gouge even at MaxLeadAngle, shank against the model, A out of range"),
+    ("App::PropertyFloat", "MaxLeadUsed", "max_lead_used", "Largest lead angle used (degrees)"),
+    ("App::PropertyFloat", "RotaryTravelA", "rotary_travel_a", "Sum of |dA| over all moves (degrees)"),
+    ("App::PropertyFloat", "RotaryTravelC", "rotary_travel_c", "Sum of |dC| over all moves (degrees)"),
+    ("App::PropertyFloat", "MachineTime", "machine_time",
+     "Estimated time (s) of the tip moves at the feeds and RapidRate (rotary moves not timed)"),
+)
+_OUTPUT_GROUP = "Certificate"
+
+_ARGUMENT_SOURCES = (
+    ("scallop_height", "property ScallopHeight"),
+    ("lead_angle", "property LeadAngle"),
+    ("max_lead_angle", "property MaxLeadAngle"),
+    ("tilt_angle", "property TiltAngle"),
+    ("a_min", "property AMin"),
+    ("a_max", "property AMax"),
+    ("tool_length", "property ToolLength"),
+    ("tool_radius", "the tool controller's tool diameter / 2"),
+    ("air_clearance", "property AirClearance"),
+    ("rapid_rate", "property RapidRate"),
+    ("posted_resolution", "property PostPrecision"),
+    ("safe_z", "property SafeHeight"),
+)
+
+def is_flat_end(tool):
+    """True if FreeCAD describes `tool` as a flat end mill."""
+    return compat.is_flat_end(tool)
+
+
+class ObjectFiveAxisStripFinish(IsoCAMOp):
+    """Proxy of a 5-Axis Strip Finish operation (module-level so documents reopen)."""
+
+    OUTPUTS = _OUTPUTS
+    ARGUMENT_SOURCES = _ARGUMENT_SOURCES
+
+    def opFeatures(self, obj):
+        return PathOp.FeatureTool | PathOp.FeatureHeights | PathOp.FeatureBaseFaces | PathOp.FeatureCoolant
+
+    def add_properties(self, obj):
+        for prop_type, name, group, tip, default in _INPUTS:
+            if not hasattr(obj, name):
+                obj.addProperty(prop_type, name, group, tip)
+                if name in _ENUMERATIONS:
+                    setattr(obj, name, list(_ENUMERATIONS[name]))
+                setattr(obj, name, default)
+        for prop_type, name, _attr, tip in _OUTPUTS:
+            if not hasattr(obj, name):
+                obj.addProperty(prop_type, name, _OUTPUT_GROUP, tip)
+            obj.setEditorMode(name, 1)
+            if hasattr(obj, "setPropertyStatus"):
+                obj.setPropertyStatus(name, ["ReadOnly", "Output"])
+
+    def accepts_tool(self, tool):
+        return is_flat_end(tool)
+
+    def opExecute(self, obj):
+        started = time.monotonic()
+        results = self.compute_or_fail(obj)
+        clearance = obj.ClearanceHeight.Value
+        op_base.check_moves(self, obj, results, clearance)
+        for line in HEADER:
+            self.commandlist.append(Path.Command("(%s)" % line))
+        self.commandlist.append(
+            Path.Command("(A range %g..%g deg, C unwrapped)" % (obj.AMin.Value, obj.AMax.Value))
+        )
+        first = results[0]
+        a0, c0 = (float(v) for v in first.ac[0])
+        x0, y0 = (float(v) for v in first.xyz[0][:2])
+        self.commandlist.append(Path.Command("G0", {"Z": clearance}))
+        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance, "A": a0, "C": c0}))
+        for res in results:
+            self.commandlist.extend(commands_from_moves(res, self.horizFeed, self.vertFeed))
+        metrics = _combined(results)
+        final = [Path.Command("G0", {"Z": clearance})]
+        metrics["machine_time"] = machine_seconds(self.commandlist + final, float(obj.RapidRate), *_feeds(obj))
+        for _type, name, attr, _tip in _OUTPUTS:
+            setattr(obj, name, metrics[attr])
+        FreeCAD.Console.PrintMessage(
+            "IsoCAM %s: %d paths, strip %.3f mm on flat ground, cutting %.1f mm, rapid %.1f mm, "
+            "guaranteed scallop %.5f mm (requested %.5f), guaranteed overcut %.5f mm, "
+            "lead up to %.1f deg, rotary travel A %.0f deg C %.0f deg, unreachable %.1f mm, "
+            "machine time %.1f min; %.2f s\n"
+            % (obj.Label, metrics["paths"], metrics["flat_strip_width"], metrics["cutting_length"],
+               metrics["rapid_length"], metrics["guaranteed_scallop"], obj.ScallopHeight.Value,
+               metrics["guaranteed_overcut"], metrics["max_lead_used"], metrics["rotary_travel_a"],
+               metrics["rotary_travel_c"], metrics["unreachable_length"],
+               metrics["machine_time"] / 60.0, time.monotonic() - started)
+        )
+        for res in results:
+            for warning in res.warnings:
+                op_base.PathLog.warning("%s: %s" % (obj.Label, warning))
+
+    def _compute(self, obj, core):
+        tc = obj.ToolController
+        tool = tc.Tool
+        if not is_flat_end(tool):
+            raise IsoCAMError(
+                "tool '%s' of tool controller '%s' is not a flat end mill (its shape is '%s'); "
+                "5-Axis Strip Finish needs a flat-end tool (ToolBit shape endmill.fcstd)%s"
+                % (compat.tool_label(tool), tc.Label, compat.tool_shape(tool) or "unknown",
+                   "; a ball end has no flat bottom to tilt: use Adaptive Isocurve for it"
+                   if compat.is_ball_end(tool) else "")
+            )
+        picked = picked_faces(obj)
+        if not picked:
+            raise IsoCAMError("no faces picked: set Base to one or more faces of the Job's model")
+        params = _params(obj, core, float(tool.Diameter) / 2.0)
+        results = []
+        for base, faces in picked:
+            res = self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
+            if len(res.kind) > 0:
+                results.append(res)
+        if not results:
+            raise IsoCAMError("the core returned no moves for the picked faces")
+        return results
+
+    def _run_core(self, core, brep, faces, params, base):
+        progress = core.Progress()
+        outcome = {}
+
+        def work():
+            try:
+                outcome["result"] = core.five_axis_finish(brep, faces, params, progress)
+            except BaseException as exc:  # handed to the calling thread
+                outcome["error"] = exc
+
+        worker = threading.Thread(target=work, name="isocam-five-axis")
+        self.active_progress = progress
+        try:
+            worker.start()
+            if FreeCAD.GuiUp:
+                from freecad_ext.gui import progress as gui_progress
+
+                gui_progress.wait(worker, progress, "5-axis strip finish")
+            else:
+                worker.join()
+        finally:
+            self.active_progress = None
+        if "error" in outcome:
+            exc = outcome["error"]
+            if isinstance(exc, RuntimeError) and not isinstance(exc, core.CancelledError):
+                raise RuntimeError("%s (model %s)" % (exc, base.Label)) from exc
+            raise exc
+        return outcome["result"]
+
+
+def _feeds(obj):
+    tc = obj.ToolController
+    h = tc.HorizFeed.Value * 60.0 if tc is not None else 0.0
+    v = tc.VertFeed.Value * 60.0 if tc is not None else 0.0
+    return (h if h > 0 else 1200.0, v if v > 0 else 400.0)
+
+
+def _params(obj, core, radius):
+    p = core.FiveAxisParams()
+    p.tool_radius = radius
+    p.scallop_height = obj.ScallopHeight.Value
+    p.lead_angle = obj.LeadAngle.Value
+    p.tilt_angle = obj.TiltAngle.Value
+    p.max_lead_angle = obj.MaxLeadAngle.Value
+    p.a_min = obj.AMin.Value
+    p.a_max = obj.AMax.Value
+    p.tool_length = obj.ToolLength.Value
+    p.direction = getattr(core.IsoDirection, obj.Direction)
+    p.protect_unpicked_faces = bool(obj.ProtectModel)
+    if not 0 <= obj.PostPrecision <= 9:
+        raise IsoCAMError("PostPrecision must be 0..9 decimals (got %d)" % obj.PostPrecision)
+    p.posted_resolution = 10.0 ** -obj.PostPrecision
+    p.air_clearance = obj.AirClearance.Value
+    p.feed_rate, p.plunge_rate = _feeds(obj)
+    p.rapid_rate = float(obj.RapidRate)
+    p.safe_z = obj.SafeHeight.Value
+    p.max_moves = op_base.max_moves(obj)
+    return p
+
+
+def _combined(results):
+    out = {}
+    for attr in ("cutting_length", "rapid_length", "machine_time", "unreachable_length",
+                 "rotary_travel_a", "rotary_travel_c"):
+        out[attr] = sum(getattr(r.metrics, attr) for r in results)
+    out["paths"] = sum(int(r.metrics.paths) for r in results)
+    for attr in ("flat_strip_width", "max_spacing", "guaranteed_scallop", "guaranteed_overcut",
+                 "max_lead_used"):
+        out[attr] = max(getattr(r.metrics, attr) for r in results)
+    return out
+
+
+def commands_from_moves(res, horiz_feed, vert_feed):
+    """Path.Commands with X Y Z A C for the core's arrays: rapid -> G0, feed
+    -> G1 at `horiz_feed`, plunge (the fed entry along the axis) -> G1 at
+    `vert_feed` (FreeCAD's units: mm, degrees, mm/s)."""
+    commands = []
+    for k, (x, y, z), (a, c) in zip(res.kind.tolist(), res.xyz.tolist(), res.ac.tolist()):
+        words = {"X": x, "Y": y, "Z": z, "A": a, "C": c}
+        if k == op_base.MOVE_RAPID:
+            commands.append(Path.Command("G0", words))
+        elif k in (op_base.MOVE_FEED, op_base.MOVE_PLUNGE):
+            words["F"] = horiz_feed if k == op_base.MOVE_FEED else vert_feed
+            commands.append(Path.Command("G1", words))
+        else:
+            raise IsoCAMError("the core returned an unknown move kind %d" % k)
+    return commands
+
+
+def SetupProperties():
+    return ["ScallopHeight", "LeadAngle", "TiltAngle", "MaxLeadAngle", "AMin", "AMax",
+            "ToolLength", "Direction", "AirClearance", "RapidRate"]
+
+
+def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
+    """Create a 5-Axis Strip Finish op and add it to `parentJob` (or the only Job).
+
+    `toolController`: a flat-end tool controller to use (headless FreeCAD
+    cannot choose among several)."""
+    return op_base.create_op(
+        ObjectFiveAxisStripFinish, name, obj, parentJob, toolController,
+        "the Job has no flat-end tool controller; add one (ToolBit shape endmill.fcstd) "
+        "or pass toolController=",
+    )
+
+
+compat.PathSetupSheet.RegisterOperation(OP_NAME, Create, SetupProperties)

@@ -1,0 +1,715 @@
+// 5-axis strip finishing (isocam/five_axis.h): a short driver over named
+// phases, per face: trace the paths by the constant-scallop front with the
+// tilted flat end's strip width (trace_face), measure the certificate on
+// them, clip them to the trimmed face and zig-zag (clip_face), pose the
+// tool along them with the gouge and shank checks (pose_runs); then link
+// all runs (link_runs) and give the rotary angles (axes_to_ac).
+#include "isocam/five_axis.h"
+
+#include <BRepBndLib.hxx>
+#include <Bnd_Box.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
+#include <Standard_Failure.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "finishing/coverage.h"
+#include "finishing/five_axis_tool.h"
+#include "finishing/scallop_front.h"
+#include "geometry/clearance.h"
+#include "geometry/trim_domain.h"
+#include "isocam/brep_io.h"
+#include "isocam/errors.h"
+
+namespace isocam {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+void require(bool ok, const std::string& name, double v, const std::string& rule) {
+  if (!ok) throw InvalidArgument(name + " must be " + rule + " (got " + num(v) + ")");
+}
+
+void validate(const FiveAxisParams& p) {
+  require(std::isfinite(p.tool_radius) && p.tool_radius > 0, "tool_radius", p.tool_radius, "> 0 mm");
+  require(p.corner_radius == 0.0, "corner_radius", p.corner_radius,
+          "0 (a flat end; bull-nose tools are not supported yet)");
+  require(std::isfinite(p.tool_length) && p.tool_length > p.tool_radius, "tool_length",
+          p.tool_length, "> tool_radius");
+  require(p.lead_angle > 0 && p.lead_angle < 60, "lead_angle", p.lead_angle,
+          "in (0, 60) degrees (0 leaves the whole flat bottom on the surface)");
+  require(std::abs(p.tilt_angle) < 45, "tilt_angle", p.tilt_angle, "in (-45, 45) degrees");
+  require(p.max_lead_angle >= p.lead_angle && p.max_lead_angle < 80, "max_lead_angle",
+          p.max_lead_angle, ">= lead_angle and < 80 degrees");
+  require(p.scallop_height > 0 && p.scallop_height < p.tool_radius, "scallop_height",
+          p.scallop_height, "in (0, tool_radius) mm");
+  require(std::isfinite(p.gouge_tolerance) && p.gouge_tolerance > 0, "gouge_tolerance",
+          p.gouge_tolerance, "> 0 mm");
+  require(std::isfinite(p.chord_tolerance) && p.chord_tolerance >= 0, "chord_tolerance",
+          p.chord_tolerance, ">= 0 mm (0: derived)");
+  require(p.posted_resolution >= 0 && p.posted_resolution < 0.1, "posted_resolution",
+          p.posted_resolution, "in [0, 0.1) mm");
+  require(p.max_axis_step >= 0.05 && p.max_axis_step <= 10, "max_axis_step", p.max_axis_step,
+          "in [0.05, 10] degrees");
+  require(p.a_min >= -120 && p.a_min < p.a_max, "a_min", p.a_min, ">= -120 and < a_max degrees");
+  require(p.a_max <= 120, "a_max", p.a_max, "<= 120 degrees");
+  require(std::isfinite(p.safe_z), "safe_z", p.safe_z, "finite");
+  require(std::isfinite(p.air_clearance) && p.air_clearance > 0, "air_clearance", p.air_clearance,
+          "> 0 mm");
+  require(std::isfinite(p.feed_rate) && p.feed_rate > 0, "feed_rate", p.feed_rate, "> 0 mm/min");
+  require(std::isfinite(p.plunge_rate) && p.plunge_rate > 0, "plunge_rate", p.plunge_rate,
+          "> 0 mm/min");
+  require(std::isfinite(p.rapid_rate) && p.rapid_rate > 0, "rapid_rate", p.rapid_rate, "> 0 mm/min");
+  check_max_moves(p.max_moves);
+}
+
+// The job's derived numbers (see "The guarantees" in the header).
+struct Budget {
+  double chord = 0, posted = 0, axis = 0;
+  double error() const { return chord + posted + axis; }
+};
+
+struct Face {
+  int index = 0;
+  PatchGrid grid;
+  std::optional<TrimDomain> trim;
+};
+
+// The settings every phase reads.
+struct Job {
+  const FiveAxisParams& p;
+  Budget b;
+  double h_eff = 0;      // the cusp the strips are spaced for
+  double lead = 0, max_lead = 0, tilt = 0, step = 0;  // radians
+  double flat_width = 0;  // strip width on flat ground at the lead
+  const ClearanceModel* model = nullptr;
+  double shank_clear = 0;  // the query distance of the shank capsule
+
+  double lead_at(double kf, double ka) const { return lead_for(lead, max_lead, p.tool_radius, kf, ka); }
+  // The edge at a frame with the lead the job uses there.
+  EdgeProfile edge(const StripFrame& f) const {
+    const ContactFrame c{f.p, f.normal, f.feed, f.across};
+    return EdgeProfile(c, p.tool_radius, lead_at(f.kappa_feed, f.kappa_across), tilt,
+                       f.kappa_across);
+  }
+  double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
+  bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis, double extra = 0.0) const {
+    return model->clear(tip.Translated(axis * p.tool_radius),
+                        tip.Translated(axis * (p.tool_length + extra)), shank_clear);
+  }
+};
+
+// Phase 1: the paths of one face in one working grid.
+struct Traced {
+  std::vector<std::vector<FrontPiece>> paths;
+  double length = 0, max_spacing = 0, cusp = 0, max_width = 0, gap = 0;
+  int min_hits = 0;
+  bool capped = false;
+};
+
+// The frame at uv with the feed `feed` (its tangential part), curvatures filled.
+StripFrame frame_with(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed) {
+  StripFrame f;
+  ContactFrame c;
+  if (!contact_frame(g, uv, feed, &c)) return f;  // feed null: skipped
+  f.uv = uv;
+  f.p = c.p;
+  f.normal = c.n;
+  f.feed = c.f;
+  f.across = c.a;
+  f.kappa_feed = normal_curvature(g, uv, c.f);
+  f.kappa_across = normal_curvature(g, uv, c.a);
+  return f;
+}
+
+// The paths for strips spaced for the cusp h (the target), with the
+// certificate: for each point p with a successor, the distance d to the
+// next path and the cusp of that distance as the edge at p, at the nearest
+// point q of the next path and at the ground between (the parameters'
+// midpoint) sees it: the largest of the three (the spacing was the least of
+// the three widths, so each edge meets h at the spacing marched).
+Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job,
+                  double h, const ProgressSlice& progress) {
+  Traced out;
+  const StripWidth width = [&job, h](const StripFrame& f) { return job.width(f, h); };
+  FrontSettings s;
+  s.sample_max = std::min(job.flat_width, job.p.tool_radius);
+  s.min_spacing = 0.02 * job.flat_width;
+  const std::size_t max_paths = static_cast<std::size_t>(8.0 * g.size() / s.min_spacing) + 100;
+  PathIndex index(job.flat_width);
+  std::vector<FrontPiece> front = start_front(g, job.flat_width, s.sample_max);
+  std::size_t samples = 0;
+  while (!front.empty()) {
+    progress.check();
+    if (out.paths.size() >= max_paths || samples > 20000000) {
+      out.capped = true;
+      out.paths.push_back(front);
+      break;
+    }
+    for (const FrontPiece& pc : front) index.add(pc);
+    FrontStep step = advance_front(g, &front, width, s, index);
+    out.min_hits += step.min_hits;
+    PathIndex next(job.flat_width);
+    for (const FrontPiece& pc : step.next) next.add(pc);
+    // The certificate: each point with a successor against the next path,
+    // the cusp of that distance on the largest curvature across between.
+    for (const FrontPiece& pc : front) {
+      samples += pc.size();
+      for (std::size_t k = 0; k < pc.size(); ++k) {
+        if (k > 0) out.length += pc[k - 1].p.Distance(pc[k].p);
+        if (!pc[k].has_next) continue;
+        const StripFrame f = frame_at(g, pc, k);
+        if (f.feed.SquareMagnitude() < 0.5) continue;
+        gp_Pnt at;
+        const double d = next.distance(pc[k].p, &at);
+        out.max_spacing = std::max(out.max_spacing, d);
+        out.max_width = std::max(out.max_width, pc[k].spacing);
+        double cu = job.edge(f).cusp(d);
+        ParamPt q;
+        nearest_on(g, at, pc[k].uv, &q);
+        const ParamPt mid{0.5 * (q.u + pc[k].uv.u), 0.5 * (q.v + pc[k].uv.v)};
+        for (const ParamPt& x : {q, mid}) {
+          const StripFrame fx = frame_with(g, x, f.feed);
+          if (fx.feed.SquareMagnitude() > 0.5) cu = std::max(cu, job.edge(fx).cusp(d));
+        }
+        out.cusp = std::max(out.cusp, cu);
+      }
+    }
+    out.paths.push_back(std::move(front));
+    front = std::move(step.next);
+  }
+  // Definition 1 sampled: the largest distance from a point of the face
+  // (inside its wires) to the nearest path.
+  const int n = 64;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const double u = g.umin() + (g.umax() - g.umin()) * (a + 0.5) / n;
+      const double v = g.vmin() + (g.vmax() - g.vmin()) * (b + 0.5) / n;
+      if (!(transposed ? trim.contains(v, u) : trim.contains(u, v))) continue;
+      out.gap = std::max(out.gap, index.distance(g.eval(u, v)));
+    }
+  return out;
+}
+
+// Phase 2: the runs of contact points inside the face (bisection at the
+// wires), zig-zag: every other path reversed.
+using Run = std::vector<ParamPt>;
+
+std::vector<Run> clip_face(const PatchGrid& g, const TrimDomain& trim, bool transposed,
+                           const Traced& t, double tol) {
+  auto inside = [&](const ParamPt& q) { return transposed ? trim.contains(q.v, q.u) : trim.contains(q.u, q.v); };
+  auto lerp = [](const ParamPt& a, const ParamPt& b, double f) {
+    return ParamPt{a.u + f * (b.u - a.u), a.v + f * (b.v - a.v)};
+  };
+  std::vector<Run> runs;
+  for (std::size_t i = 0; i < t.paths.size(); ++i) {
+    std::vector<Run> path_runs;
+    for (const FrontPiece& pc : t.paths[i]) {
+      Run cur;
+      bool in = false;
+      ParamPt prev{};
+      for (std::size_t k = 0; k < pc.size(); ++k) {
+        const int parts = k == 0 ? 1 : 4;
+        for (int q = 1; q <= parts; ++q) {
+          const ParamPt x = k == 0 ? pc[0].uv : lerp(pc[k - 1].uv, pc[k].uv, double(q) / parts);
+          const bool s = inside(x);
+          if (k > 0 && s != in) {
+            ParamPt lo = in ? prev : x, hi = in ? x : prev;  // lo inside
+            for (int it = 0; it < 60; ++it) {
+              if (g.eval(lo.u, lo.v).Distance(g.eval(hi.u, hi.v)) <= tol) break;
+              const ParamPt m = lerp(lo, hi, 0.5);
+              (inside(m) ? lo : hi) = m;
+            }
+            cur.push_back(lo);
+            if (in) {
+              if (cur.size() >= 2) path_runs.push_back(cur);
+              cur.clear();
+            }
+          }
+          if (s && (q == parts)) cur.push_back(x);
+          in = s;
+          prev = x;
+        }
+      }
+      if (cur.size() >= 2) path_runs.push_back(cur);
+    }
+    if (i % 2 == 1) {
+      std::reverse(path_runs.begin(), path_runs.end());
+      for (Run& r : path_runs) std::reverse(r.begin(), r.end());
+    }
+    for (Run& r : path_runs) runs.push_back(std::move(r));
+  }
+  return runs;
+}
+
+// The most the axis the machine interpolates (A and C linear between two
+// posted positions) may differ from the exact axis at the middle (radians):
+// the rim then moves by at most R x this (in the budget's axis term).
+constexpr double kAxisDeviation = 2e-4;
+
+// The axis halfway between two in the machine's interpolation: A and C of
+// each (C of the other where one is vertical, C unwrapped to the nearest
+// branch, as axes_to_ac() posts them), averaged.
+gp_Vec ac_midpoint(const gp_Vec& p, const gp_Vec& q) {
+  auto ac = [](const gp_Vec& v, double* A, double* C) {
+    const double s = std::hypot(v.X(), v.Y());
+    *A = std::atan2(s, v.Z());
+    *C = s < 1e-12 ? std::nan("") : std::atan2(v.X(), -v.Y());
+  };
+  double a1, c1, a2, c2;
+  ac(p, &a1, &c1);
+  ac(q, &a2, &c2);
+  if (std::isnan(c1)) c1 = std::isnan(c2) ? 0.0 : c2;
+  if (std::isnan(c2)) c2 = c1;
+  c2 += 2 * M_PI * std::round((c1 - c2) / (2 * M_PI));
+  const double A = 0.5 * (a1 + a2), C = 0.5 * (c1 + c2);
+  return gp_Vec(std::sin(A) * std::sin(C), -std::sin(A) * std::cos(C), std::cos(A));
+}
+
+// Phase 3: the tool posed along each run, refined until each move's
+// midpoint is within the chord tolerance and the axis turns by at most the
+// axis step; positions that gouge (after raising the lead), hit the model
+// with the shank or need A outside the range are left out.
+struct Posed {
+  ParamPt uv;
+  ToolPose pose;
+  double lead = 0;
+  bool raised = false;
+};
+
+struct PoseOut {
+  std::vector<std::vector<Posed>> runs;
+  double unreachable = 0, max_lead = 0;
+  int raised = 0, gouge_left = 0, shank_left = 0, range_left = 0;
+};
+
+class Poser {
+ public:
+  Poser(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job)
+      : g_(g), trim_(trim), transposed_(transposed), job_(job) {}
+
+  void run(const Run& r, PoseOut* out) const {
+    std::vector<Posed> pts;
+    for (std::size_t k = 0; k < r.size(); ++k) {
+      const std::size_t a = k > 0 ? k - 1 : k, b = k + 1 < r.size() ? k + 1 : k;
+      Posed x;
+      if (!pose(r[k], gp_Vec(g_.eval(r[a].u, r[a].v), g_.eval(r[b].u, r[b].v)), &x)) continue;
+      if (!pts.empty()) refine(pts.back(), x, 0, &pts);
+      pts.push_back(x);
+    }
+    // The checks, splitting the run where a position fails.
+    std::vector<Posed> cur;
+    auto flush = [&]() {
+      if (cur.size() >= 2) out->runs.push_back(cur);
+      cur.clear();
+    };
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      Posed& x = pts[k];
+      bool ok = true;
+      if (depth(x) > job_.p.gouge_tolerance) {
+        ++out->gouge_left;
+        ok = false;
+      } else if (!job_.capsule_clear(x.pose.tip, x.pose.axis) ||
+                 (!cur.empty() && !job_.model->clear(cur.back().pose.tip.Translated(cur.back().pose.axis * job_.p.tool_radius),
+                                                     x.pose.tip.Translated(x.pose.axis * job_.p.tool_radius),
+                                                     job_.shank_clear))) {
+        ++out->shank_left;
+        ok = false;
+      } else if (!a_reachable(x.pose.axis)) {
+        ++out->range_left;
+        ok = false;
+      }
+      if (!ok) {
+        if (k > 0) out->unreachable += pts[k - 1].pose.tip.Distance(x.pose.tip);
+        flush();
+        continue;
+      }
+      out->raised += x.raised ? 1 : 0;
+      out->max_lead = std::max(out->max_lead, x.lead);
+      cur.push_back(x);
+    }
+    flush();
+  }
+
+ private:
+  bool inside(const ParamPt& q) const {
+    return transposed_ ? trim_.contains(q.v, q.u) : trim_.contains(q.u, q.v);
+  }
+  double depth(const Posed& x) const {
+    return disc_depth(g_, x.uv, x.pose, job_.p.tool_radius, [this](const ParamPt& q) { return inside(q); });
+  }
+  bool a_reachable(const gp_Vec& axis) const {
+    const double A = std::acos(std::clamp(axis.Z(), -1.0, 1.0)) / kDegree;
+    const double eps = 1e-9;
+    return (A >= job_.p.a_min - eps && A <= job_.p.a_max + eps) ||
+           (-A >= job_.p.a_min - eps && -A <= job_.p.a_max + eps);
+  }
+  bool pose(const ParamPt& uv, const gp_Vec& dir, Posed* x) const {
+    ContactFrame c;
+    if (!contact_frame(g_, uv, dir, &c)) return false;
+    const double kf = normal_curvature(g_, uv, c.f), ka = normal_curvature(g_, uv, c.a);
+    x->uv = uv;
+    x->lead = job_.lead_at(kf, ka);
+    x->raised = x->lead > job_.lead + 1e-9;
+    x->pose = pose_at(c, job_.p.tool_radius, x->lead, job_.tilt);
+    // The exact check: raise the lead in 2 degree steps while the disc digs in.
+    while (depth(*x) > job_.p.gouge_tolerance && x->lead < job_.max_lead) {
+      x->lead = std::min(job_.max_lead, x->lead + 2 * kDegree);
+      x->raised = true;
+      x->pose = pose_at(c, job_.p.tool_radius, x->lead, job_.tilt);
+    }
+    return true;
+  }
+  // Positions inserted between a and b (not included) into out.
+  void refine(const Posed& a, const Posed& b, int level, std::vector<Posed>* out) const {
+    if (level >= 12) return;
+    const double turn = a.pose.axis.Angle(b.pose.axis);
+    const ParamPt m{0.5 * (a.uv.u + b.uv.u), 0.5 * (a.uv.v + b.uv.v)};
+    Posed x;
+    if (!pose(m, gp_Vec(g_.eval(a.uv.u, a.uv.v), g_.eval(b.uv.u, b.uv.v)), &x)) return;
+    const gp_Pnt mid((a.pose.tip.XYZ() + b.pose.tip.XYZ()) * 0.5);
+    if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord &&
+        ac_midpoint(a.pose.axis, b.pose.axis).Angle(x.pose.axis) <= kAxisDeviation)
+      return;
+    refine(a, x, level + 1, out);
+    out->push_back(x);
+    refine(x, b, level + 1, out);
+  }
+
+  const PatchGrid& g_;
+  const TrimDomain& trim_;
+  bool transposed_;
+  const Job& job_;
+};
+
+// Phase 4: the runs linked. Per run: a rapid at the safe height to above
+// the approach point, down to it (the approach point on the start's axis,
+// as far out as makes the descent clear), a fed entry along the axis over
+// the air clearance, the run fed, a retract along the axis, up to the safe
+// height. Both ends of the move between runs are at the safe height with
+// the axis pointing up (A <= 90 degrees), so the whole tool is above the
+// model there.
+struct Linked {
+  Toolpath path;
+  std::vector<gp_Vec> axis;
+  int dropped = 0;
+  double dropped_length = 0;
+};
+
+Linked link_runs(const std::vector<std::vector<Posed>>& runs, const Job& job, double safe_z) {
+  Linked out;
+  auto add = [&](MoveKind k, const gp_Pnt& q, const gp_Vec& a) {
+    out.path.add(k, q.X(), q.Y(), q.Z());
+    out.axis.push_back(a);
+  };
+  // The retract along `a` from q that lets the tool go straight up to the
+  // safe height clear of the model; false if none up to the safe height.
+  auto retract = [&](const gp_Pnt& q, const gp_Vec& a, gp_Pnt* r) {
+    const double air = job.p.air_clearance;
+    for (double d = air;; d *= 2) {
+      *r = q.Translated(a * d);
+      const bool top = r->Z() >= safe_z;
+      if (job.capsule_clear(q, a, d)) {
+        if (top) return true;
+        const gp_Pnt up(r->X(), r->Y(), safe_z);
+        bool clear = true;
+        for (double s : {job.p.tool_radius, 0.5 * (job.p.tool_radius + job.p.tool_length), job.p.tool_length})
+          clear = clear && job.model->clear(r->Translated(a * s), up.Translated(a * s), job.shank_clear);
+        if (clear) return true;
+      }
+      if (top || d > 1e4) return false;
+    }
+  };
+  for (const std::vector<Posed>& run : runs) {
+    const Posed &s = run.front(), &e = run.back();
+    gp_Pnt rs, re;
+    if (!retract(s.pose.tip, s.pose.axis, &rs) || !retract(e.pose.tip, e.pose.axis, &re)) {
+      ++out.dropped;
+      for (std::size_t k = 1; k < run.size(); ++k)
+        out.dropped_length += run[k - 1].pose.tip.Distance(run[k].pose.tip);
+      continue;
+    }
+    add(MoveKind::Rapid, gp_Pnt(rs.X(), rs.Y(), std::max(safe_z, rs.Z())), s.pose.axis);
+    if (rs.Z() < safe_z) add(MoveKind::Rapid, rs, s.pose.axis);
+    const gp_Pnt approach = s.pose.tip.Translated(s.pose.axis * job.p.air_clearance);
+    if (approach.Distance(rs) > 1e-9) add(MoveKind::Rapid, approach, s.pose.axis);
+    add(MoveKind::Plunge, s.pose.tip, s.pose.axis);
+    for (std::size_t k = 1; k < run.size(); ++k) add(MoveKind::Feed, run[k].pose.tip, run[k].pose.axis);
+    add(MoveKind::Rapid, re, e.pose.axis);
+    if (re.Z() < safe_z) add(MoveKind::Rapid, gp_Pnt(re.X(), re.Y(), safe_z), e.pose.axis);
+  }
+  return out;
+}
+
+void check_faces(const std::vector<int>& faces, std::size_t count) {
+  if (faces.empty()) throw InvalidArgument("faces: no face picked");
+  std::set<int> seen;
+  for (int f : faces) {
+    if (f < 0 || f >= static_cast<int>(count))
+      throw InvalidArgument("faces: index " + std::to_string(f) + " is out of range (the shape has " +
+                            std::to_string(count) + " faces)");
+    if (!seen.insert(f).second) throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
+  }
+}
+
+Budget make_budget(const FiveAxisParams& p) {
+  Budget b;
+  b.posted = 0.5 * std::sqrt(3.0) * p.posted_resolution;
+  b.axis = p.tool_radius * kAxisDeviation;
+  b.chord = p.chord_tolerance > 0 ? p.chord_tolerance : (p.scallop_height - b.posted - b.axis) / 4;
+  if (!(p.scallop_height - b.error() > 0))
+    throw InvalidArgument("scallop_height must exceed the chord tolerance, the posted rounding and "
+                          "the axis step's error (" + num(b.error()) + " mm; got " +
+                          num(p.scallop_height) + ")");
+  return b;
+}
+
+void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces, const Job& job) {
+  double area = 0.0;
+  for (int f : faces) {
+    GProp_GProps props;
+    BRepGProp::SurfaceProperties(all[static_cast<std::size_t>(f)], props);
+    area += std::abs(props.Mass());
+  }
+  const double est = area / job.flat_width / (0.25 * job.flat_width) + double(faces.size());
+  check_work_budget(est, job.p.max_moves,
+                    num(area) + " mm^2 of faces at a strip width of about " + num(job.flat_width) + " mm");
+}
+
+}  // namespace
+
+FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int>& faces,
+                                const FiveAxisParams& p, Progress* progress) {
+  if (shape.IsNull()) throw InvalidArgument("brep: the shape is empty (no faces)");
+  const std::vector<TopoDS_Face> all = faces_of(shape);
+  if (all.empty()) throw InvalidArgument("brep: the shape has no faces");
+  check_faces(faces, all.size());
+  validate(p);
+  Bnd_Box box;
+  for (const TopoDS_Face& f : all) BRepBndLib::Add(f, box, false);
+  if (box.IsVoid()) throw InvalidArgument("brep: the faces have no extent");
+  const double extent = std::sqrt(box.SquareExtent());
+  check_tolerance_ratio("scallop_height", p.scallop_height, extent);
+
+  Job job{p, make_budget(p)};
+  job.h_eff = p.scallop_height - job.b.error();
+  job.lead = p.lead_angle * kDegree;
+  job.max_lead = p.max_lead_angle * kDegree;
+  job.tilt = p.tilt_angle * kDegree;
+  job.step = p.max_axis_step * kDegree;
+  {
+    const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
+    job.flat_width = 2 * EdgeProfile(flat, p.tool_radius, job.lead, job.tilt, 0.0).half_width(job.h_eff);
+  }
+  check_budget(all, faces, job);
+  FiveAxisResult result;
+  FiveAxisMetrics& m = result.metrics;
+  m.chord_tolerance = job.b.chord;
+  m.flat_strip_width = job.flat_width;
+
+  // The model: the picked faces and (protect_unpicked_faces) the others.
+  ClearanceModel model(p.gouge_tolerance, 2.0 * p.tool_radius);
+  std::vector<std::unique_ptr<Face>> model_faces;
+  std::vector<Face*> picked(faces.size(), nullptr);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const int f = static_cast<int>(i);
+    const auto at = std::find(faces.begin(), faces.end(), f);
+    if (at == faces.end() && !p.protect_unpicked_faces) continue;
+    try {
+      auto face = std::make_unique<Face>(Face{f, PatchGrid::from_face(all[i], f), std::nullopt});
+      face->trim.emplace(all[i], face->grid, f);
+      model.add(face->grid, &*face->trim);
+      if (at != faces.end()) picked[static_cast<std::size_t>(at - faces.begin())] = face.get();
+      model_faces.push_back(std::move(face));
+    } catch (const Standard_Failure& e) {
+      if (at != faces.end())
+        throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
+      result.warnings.push_back(face_label(f) + " is not protected from the shank: " + e.GetMessageString());
+    } catch (const GeometryError& e) {
+      if (at != faces.end()) throw;
+      result.warnings.push_back(face_label(f) + " is not protected from the shank: " + e.what());
+    }
+  }
+  model.build();
+  job.model = &model;
+  job.shank_clear = model.query_distance(p.tool_radius - 2 * p.gouge_tolerance);
+
+  const ProgressSlice all_progress(progress);
+  std::vector<std::vector<Posed>> runs;
+  for (std::size_t fi = 0; fi < picked.size(); ++fi) {
+    const Face& face = *picked[fi];
+    const ProgressSlice slice = all_progress.sub(0.9 * double(fi) / double(picked.size()),
+                                                 0.9 * double(fi + 1) / double(picked.size()));
+    try {
+      std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
+      if (p.direction != IsoDirection::Auto) dirs = {p.direction};
+      std::optional<PatchGrid> best_grid;
+      Traced best;
+      bool best_transposed = false;
+      for (IsoDirection d : dirs) {
+        const bool tr = d == IsoDirection::U;
+        PatchGrid g = tr ? face.grid.transposed() : face.grid;
+        // Spaced for h' first; where the measured certificate exceeds it
+        // (the next path runs a little farther than the march went, where
+        // points were resampled, cut out or joined), again for a target
+        // scaled down by the excess (the cusp grows about linearly with the
+        // target), up to three times.
+        double target = job.h_eff;
+        Traced t;
+        for (int attempt = 0; attempt < 4; ++attempt) {
+          t = trace_face(g, *face.trim, tr, job, target, slice);
+          if (t.cusp <= job.h_eff) break;
+          target *= 0.98 * job.h_eff / t.cusp;
+        }
+        // The direction that covers the face (no sampled gap wider than
+        // half the strip) and meets h' by its certificate, then the shorter.
+        auto meets = [&job](const Traced& x) {
+          return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
+        };
+        if (!best_grid || (meets(t) && !meets(best)) ||
+            (meets(t) == meets(best) && t.length < best.length)) {
+          best = std::move(t);
+          best_grid.emplace(std::move(g));
+          best_transposed = tr;
+        }
+      }
+      const PatchGrid& g = *best_grid;
+      m.max_spacing = std::max(m.max_spacing, best.max_spacing);
+      m.coverage_gap = std::max(m.coverage_gap, best.gap);
+      m.guaranteed_scallop = std::max(m.guaranteed_scallop, best.cusp);
+      m.paths += static_cast<int>(best.paths.size());
+      // A gap the front left wider than the strips: material may be left there.
+      if (2 * best.gap > 1.05 * std::max(best.max_width, job.flat_width))
+        result.warnings.push_back(face_label(face.index) + ": the paths leave a gap of " + num(best.gap) +
+                                  " mm to the nearest path (sampled), wider than half the strip");
+      if (best.min_hits > 0)
+        result.warnings.push_back(face_label(face.index) + ": the strip width asked for less than the "
+                                  "minimum spacing at " + std::to_string(best.min_hits) + " points");
+      if (best.capped)
+        result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
+      const std::vector<Run> clipped = clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
+      PoseOut posed;
+      const Poser poser(g, *face.trim, best_transposed, job);
+      for (const Run& r : clipped) {
+        slice.check();
+        poser.run(r, &posed);
+      }
+      m.unreachable_length += posed.unreachable;
+      m.lead_raised_points += posed.raised;
+      m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
+      if (posed.raised > 0)
+        result.warnings.push_back(face_label(face.index) + ": the lead was raised above " +
+                                  num(p.lead_angle) + " deg (up to " + num(posed.max_lead / kDegree) +
+                                  " deg) at " + std::to_string(posed.raised) +
+                                  " positions to keep the flat bottom off concave ground (rear gouge); "
+                                  "the strips there are narrower");
+      if (posed.gouge_left + posed.shank_left + posed.range_left > 0)
+        result.warnings.push_back(face_label(face.index) + ": positions left out: " +
+                                  std::to_string(posed.gouge_left) + " where the disc would gouge even at " +
+                                  num(p.max_lead_angle) + " deg lead, " + std::to_string(posed.shank_left) +
+                                  " where the shank meets the model, " + std::to_string(posed.range_left) +
+                                  " where A would leave [" + num(p.a_min) + ", " + num(p.a_max) + "] deg");
+      for (auto& r : posed.runs) runs.push_back(std::move(r));
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+  }
+  // The guarantees: the cusp measured plus the positions' error.
+  m.guaranteed_scallop += job.b.error();
+  m.guaranteed_overcut = job.b.error() + p.gouge_tolerance;
+  if (m.guaranteed_scallop > p.scallop_height * (1 + 1e-9))
+    result.warnings.push_back("the measured cusp between adjacent paths (" + num(m.guaranteed_scallop) +
+                              " mm with the positions' error) exceeds the scallop height " +
+                              num(p.scallop_height) + " mm (see guaranteed_scallop)");
+
+  double zmin, zmax, x0, y0, x1, y1;
+  box.Get(x0, y0, zmin, x1, y1, zmax);
+  const double safe_z = std::max(p.safe_z, zmax + p.air_clearance);
+  Linked linked = link_runs(runs, job, safe_z);
+  if (linked.dropped > 0) {
+    m.unreachable_length += linked.dropped_length;
+    result.warnings.push_back(std::to_string(linked.dropped) +
+                              " runs left out: no retract along the tool axis clears the model");
+  }
+  all_progress.report(0.95);
+  result.path = std::move(linked.path);
+  for (const gp_Vec& a : linked.axis) {
+    result.i.push_back(a.X());
+    result.j.push_back(a.Y());
+    result.k.push_back(a.Z());
+  }
+  std::vector<char> ok;
+  axes_to_ac(result.i, result.j, result.k, p.a_min, p.a_max, &result.a, &result.c, &ok);
+  const PathLengths len = measure(result.path);
+  m.cutting_length = len.feed;
+  m.rapid_length = len.rapid;
+  m.plunge_length = len.plunge + len.ramp;
+  m.retracts = len.retracts;
+  const PathTimes t = estimate_time(result.path, p.feed_rate, p.plunge_rate, p.rapid_rate);
+  m.machine_time = t.total;
+  m.cutting_time = t.feed;
+  for (std::size_t k = 1; k < result.a.size(); ++k) {
+    m.rotary_travel_a += std::abs(result.a[k] - result.a[k - 1]);
+    m.rotary_travel_c += std::abs(result.c[k] - result.c[k - 1]);
+  }
+  all_progress.report(1.0);
+  return result;
+}
+
+void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
+                const std::vector<double>& k, double a_min, double a_max, std::vector<double>* a,
+                std::vector<double>* c, std::vector<char>* ok) {
+  a->assign(i.size(), 0.0);
+  c->assign(i.size(), 0.0);
+  ok->assign(i.size(), 0);
+  double pa = 0.0, pc = 0.0;
+  bool have = false;
+  for (std::size_t q = 0; q < i.size(); ++q) {
+    const double s = std::hypot(i[q], j[q]);
+    const double A = std::atan2(s, k[q]) / kDegree;
+    const bool vertical = s < 1e-9;
+    const double C = vertical ? pc : std::atan2(i[q], -j[q]) / kDegree;
+    double best = 1e300, ba = 0, bc = 0;
+    for (int branch = 0; branch < 2; ++branch) {
+      const double ca = branch ? -A : A;
+      double cc = branch && !vertical ? C + 180.0 : C;
+      if (ca < a_min - 1e-9 || ca > a_max + 1e-9) continue;
+      if (have) cc += 360.0 * std::round((pc - cc) / 360.0);
+      const double cost = have ? std::abs(ca - pa) + std::abs(cc - pc) : std::abs(ca);
+      if (cost < best) {
+        best = cost;
+        ba = ca;
+        bc = cc;
+      }
+    }
+    if (best < 1e300) {
+      (*ok)[q] = 1;
+      pa = ba;
+      pc = bc;
+      have = true;
+    }
+    (*a)[q] = have ? pa : A;
+    (*c)[q] = have ? pc : C;
+  }
+}
+
+double flat_end_half_width(double radius, double lead_deg, double tilt_deg, double kappa_across,
+                           double h) {
+  if (!(radius > 0) || !(h > 0) || !(lead_deg > 0 && lead_deg < 90) || !(std::abs(tilt_deg) < 90))
+    throw InvalidArgument("flat_end_half_width: radius > 0, h > 0, 0 < lead < 90, |tilt| < 90 (got " +
+                          num(radius) + ", " + num(h) + ", " + num(lead_deg) + ", " + num(tilt_deg) + ")");
+  const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
+  return EdgeProfile(flat, radius, lead_deg * kDegree, tilt_deg * kDegree, kappa_across).half_width(h);
+}
+
+}  // namespace isocam

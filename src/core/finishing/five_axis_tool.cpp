@@ -1,0 +1,147 @@
+// The tilted flat end (see five_axis_tool.h and isocam/five_axis.h).
+#include "finishing/five_axis_tool.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace isocam {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+gp_Vec unit_or(const gp_Vec& v, const gp_Vec& fallback) {
+  const double m = v.Magnitude();
+  return m > 1e-300 ? v / m : fallback;
+}
+
+// The ground's height below the tangent line at the offset x (curvature
+// kappa, convex > 0): -kappa x^2 / (1 + sqrt(1 - kappa^2 x^2)); beyond a
+// convex circle's reach -inf, beyond a concave one's +inf (a wall).
+double ground(double kappa, double x) {
+  const double q = 1.0 - kappa * kappa * x * x;
+  if (q <= 0) return kappa > 0 ? -kInf : kInf;
+  return -kappa * x * x / (1.0 + std::sqrt(q));
+}
+
+}  // namespace
+
+ToolPose pose_at(const ContactFrame& c, double radius, double lead, double tilt) {
+  ToolPose out;
+  out.axis = unit_or(c.n * (std::cos(lead) * std::cos(tilt)) + c.f * std::sin(lead) +
+                         c.a * (std::cos(lead) * std::sin(tilt)),
+                     c.n);
+  const gp_Vec up = unit_or(c.n - out.axis * c.n.Dot(out.axis), -c.f);
+  out.tip = c.p.Translated(up * radius);
+  return out;
+}
+
+// The rim relative to P: R ((1 + cos th) u + sin th e2), u the unit vector
+// from the contact to the tip, e2 = axis x u; across the feed x(th) = x0 +
+// m cos(th - phi), along N z(th) = z0 + s cos th + t sin th.
+EdgeProfile::EdgeProfile(const ContactFrame& c, double radius, double lead, double tilt,
+                         double kappa_a)
+    : kappa_(kappa_a) {
+  const ToolPose pose = pose_at(c, radius, lead, tilt);
+  const gp_Vec u = gp_Vec(c.p, pose.tip) / radius;
+  const gp_Vec e2 = pose.axis.Crossed(u);
+  const double p = radius * u.Dot(c.a), q = radius * e2.Dot(c.a);
+  x0_ = p;
+  m_ = std::hypot(p, q);
+  phi_ = std::atan2(q, p);
+  z0_ = radius * u.Dot(c.n);
+  s_ = z0_;
+  t_ = radius * e2.Dot(c.n);
+}
+
+double EdgeProfile::height(double x) const {
+  if (!(m_ > 0) || x < x_min() || x > x_max()) return kInf;
+  const double w = std::acos(std::clamp((x - x0_) / m_, -1.0, 1.0));
+  double z = kInf;
+  for (double th : {phi_ + w, phi_ - w}) z = std::min(z, z0_ + s_ * std::cos(th) + t_ * std::sin(th));
+  return z - ground(kappa_, x);
+}
+
+double EdgeProfile::side_width(double h, double sign) const {
+  const double reach = sign > 0 ? x_max() : -x_min();
+  if (!(reach > 0)) return 0.0;
+  const int n = 96;
+  double lo = 0.0;
+  for (int k = 1; k <= n; ++k) {
+    const double x = reach * k / n;
+    if (height(sign * x) >= h) {
+      double hi = x;
+      for (int it = 0; it < 50; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (height(sign * mid) >= h ? hi : lo) = mid;
+      }
+      return lo;
+    }
+    lo = x;
+  }
+  return reach;
+}
+
+double EdgeProfile::half_width(double h) const { return std::min(side_width(h, 1), side_width(h, -1)); }
+
+double EdgeProfile::cusp(double spacing) const {
+  const double x = 0.5 * spacing;
+  return std::max(height(x), height(-x));
+}
+
+double EdgeProfile::lowest() const {
+  double low = kInf;
+  for (int k = 0; k <= 200; ++k) low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0));
+  return low;
+}
+
+double lead_for(double base, double max_lead, double radius, double kappa_f, double kappa_a) {
+  const double ka = 1.25 * std::max(0.0, -kappa_a) * radius;
+  const double kf = 1.25 * std::max(0.0, -kappa_f) * radius;
+  auto ok = [&](double l) {
+    const double c = std::cos(l);
+    return std::sin(l) >= ka && std::sin(l) >= kf * c * c;
+  };
+  if (ok(base) || !ok(max_lead)) return ok(base) ? base : max_lead;
+  double lo = base, hi = max_lead;
+  for (int it = 0; it < 40; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (ok(mid) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, ContactFrame* out) {
+  const SurfaceDerivs d = g.d1(uv.u, uv.v);
+  out->p = d.p;
+  out->n = g.normal(uv.u, uv.v, &d);
+  gp_Vec f = dir - out->n * dir.Dot(out->n);
+  const double m = f.Magnitude();
+  if (!(m > 1e-12) || !(out->n.Magnitude() > 0.5)) return false;
+  out->f = f / m;
+  out->a = out->n.Crossed(out->f);
+  return true;
+}
+
+bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot) {
+  bool clamped = false;
+  for (int it = 0; it < 12; ++it) {
+    const SurfaceDerivs d = g.d1(uv.u, uv.v);
+    const gp_Vec r(d.p, x);
+    const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
+    const double det = E * G - F * F;
+    if (!(det > 1e-300)) break;
+    const double bu = r.Dot(d.su), bv = r.Dot(d.sv);
+    const double du = (G * bu - F * bv) / det, dv = (E * bv - F * bu) / det;
+    ParamPt nx{std::clamp(uv.u + du, g.umin(), g.umax()), std::clamp(uv.v + dv, g.vmin(), g.vmax())};
+    clamped = nx.u != uv.u + du || nx.v != uv.v + dv;
+    const bool done = std::abs(nx.u - uv.u) + std::abs(nx.v - uv.v) <
+                      1e-13 * (g.umax() - g.umin() + g.vmax() - g.vmin());
+    uv = nx;
+    if (done) break;
+  }
+  *foot = uv;
+  return !clamped;
+}
+
+}  // namespace isocam

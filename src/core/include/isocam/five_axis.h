@@ -1,0 +1,159 @@
+// 5-axis strip finishing with a tilted flat-end tool: non-isoparametric
+// passes placed by the machining strip width, after Y.S. Lee, "Non-
+// isoparametric tool path planning by machining strip evaluation for 5-axis
+// sculptured surface machining" (CAD 30(7), 1998), sections 2-5.
+//
+// The tool. A flat end of radius R: a cylinder whose bottom face is a disc
+// of radius R. The posted point is the TOOL TIP = THE CENTRE OF THE BOTTOM
+// FACE; the tool axis is the unit vector from the tip up the shank.
+//
+// The orientation (Lee's section 2). At a contact point P with unit normal
+// N (away from the material), feed direction F (unit, tangent) and across
+// direction A = N x F, the axis is N tilted by the lead angle l towards the
+// feed and by the tilt angle t towards A:
+//   axis = unit(cos l cos t N + sin l F + cos l sin t A),
+// and the tip is where the lowest rim point of the disc (lowest along N)
+// touches P: tip = P + R unit(N - (N.axis) axis). With t = 0 the disc rises
+// behind the contact at the angle l: seen along the feed, in the normal
+// plane across it, its lower edge is an ellipse of semi-axes R (across) and
+// R sin l (along N) (radius of curvature R / sin l at the contact).
+//
+// The strip (section 2). Across the feed the tool's lower edge stands
+// above the ground, approximated by the circle of its normal curvature
+// across the feed kappa_a (convex > 0), by D(x) at the offset x from the
+// contact; the strip machined within the scallop height h' is |x| <= x_h
+// with D(x_h) = h' (x_h <= the disc's reach across). With a tilt the two
+// sides differ; the smaller side counts on both (the zig-zag reverses the
+// feed). Adjacent paths are spaced by the strip width 2 x_h at both paths
+// and between them (sections 3-5: the orthogonal march of the constant-
+// scallop engine, finishing/scallop_front.h), so the cusp between them is
+// at most h'.
+//
+// No gouge of the cutting end (the "rear gouge" of the flat bottom on
+// concave ground). To second order the disc stays above the surface iff
+//   -kappa_a R <= sin l   and   -kappa_f R cos^2 l <= sin l
+// (kappa_f the normal curvature along the feed): on concave ground a small
+// lead lets the heel of the disc dig in behind the contact and its sides
+// dig in across. Where the conditions ask for more than the lead angle, the
+// lead there is RAISED (to the smallest angle that meets them with 25%
+// curvature margin, never above max_lead_angle): a larger lead lifts the
+// heel and narrows the strip (R / sin l shrinks), which the spacing then
+// follows. Lowering the lead would only make the heel dig deeper. Every
+// posted position is then checked exactly: the disc (its rim at 48 points
+// and two inner rings) against the picked face it cuts, by the signed
+// distance along the face normal at the nearest surface point; a position
+// deeper than the gouge tolerance gets its lead raised in 2 degree steps up
+// to max_lead_angle, and if that does not clear it the position is left out
+// (its length reported as unreachable). The warnings say how many points
+// had their lead raised and how far.
+//
+// No gouge of the shank (with protect_unpicked_faces, against the whole
+// model, else the picked faces): the capsule of radius R - gouge_tolerance
+// around the axis from R to tool_length above the tip must be clear of
+// every face (trimmed to its wires) at each posted position and along each
+// move; what fails is cut away and reported as unreachable. The disc check
+// above covers the part of the tool below R.
+//
+// Rotary axes. A table-tilting A/C machine with tool-centre-point control:
+// the tool axis relative to the part is
+//   (sin A sin C, -sin A cos C, cos A),
+// A (degrees) within [a_min, a_max], C (degrees) unwrapped: each point's C
+// is the branch nearest the previous one (no 360 degree unwinds between
+// neighbours), and where sin A is about 0 (the axis vertical) C keeps the
+// previous value. With a_min < 0 the branch (-A, C + 180) is taken where it
+// moves less. Positions whose axis needs A outside the range are left out
+// (unreachable). Coordinates x, y, z are the tip in the part (work) frame.
+//
+// The guarantees (stated, and measured by the tests from outside). Let c
+// be the chord tolerance, p = sqrt(3)/2 x posted_resolution, and g the
+// gouge tolerance. Between two posted positions the machine moves the tip
+// straight and A and C linearly; each move is refined until the axis turns
+// by at most max_axis_step (1 degree), the tip's midpoint is within c of the
+// exact tip, and the axis the machine interpolates at the middle is within
+// 2e-4 rad of the exact one (near A = 0, where C turns fast, this inserts
+// positions; a pass over the pole turns C there at a nearly vertical axis),
+// so the tool rim is within e = c + p + 2e-4 R of an exact position (checked
+// at the midpoints, not bounded between them). The strips are spaced for
+// h' = h - e, so
+//   guaranteed_scallop = e + max over adjacent pairs of D(c_pair / 2) <= h,
+// c_pair measured from each sample of a path to the next path. Nothing is
+// cut deeper than guaranteed_overcut = e + g below the picked face.
+// Not covered: places listed as unreachable, gaps the front leaves (the
+// sampled coverage below reports them), and faces the warnings name.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <TopoDS_Shape.hxx>
+
+#include "isocam/adaptive_isocurve.h"
+#include "isocam/progress.h"
+#include "isocam/toolpath.h"
+#include "isocam/work_budget.h"
+
+namespace isocam {
+
+struct FiveAxisParams {
+  double tool_radius = 3.0;       // mm, R > 0 (a 6 mm flat end)
+  double corner_radius = 0.0;     // mm; only 0 (flat end) is supported yet
+  double tool_length = 30.0;      // mm above the tip that must stay clear (> R)
+  double lead_angle = 5.0;        // degrees, 0 < lead < 60
+  double tilt_angle = 0.0;        // degrees, |tilt| < 45
+  double max_lead_angle = 45.0;   // degrees, lead <= it < 80: the most a raise may use
+  double scallop_height = 0.01;   // mm, 0 < h < R
+  double gouge_tolerance = 0.001; // mm, > 0
+  double chord_tolerance = 0.0;   // mm; 0: derived ((h - p) / 4)
+  double posted_resolution = 0.001;  // mm, >= 0, < 0.1
+  double max_axis_step = 1.0;     // degrees, 0.05 .. 10: axis change per move
+  double a_min = 0.0, a_max = 90.0;  // degrees, -120 <= a_min < a_max <= 120
+  IsoDirection direction = IsoDirection::Auto;  // start path: iso-V at vmin, iso-U at umin
+  double safe_z = 0.0;            // tip z for moves between passes (raised to clear the model)
+  double air_clearance = 1.0;     // mm, > 0: approach and retract along the axis
+  double feed_rate = 1200.0, plunge_rate = 400.0, rapid_rate = 5000.0;  // mm/min, > 0
+  bool protect_unpicked_faces = true;
+  double max_moves = kDefaultMaxMoves;
+};
+
+struct FiveAxisMetrics {
+  double cutting_length = 0.0, rapid_length = 0.0, plunge_length = 0.0;  // tip, mm
+  double machine_time = 0.0, cutting_time = 0.0;  // s, tip moves at the rates (rotary not timed)
+  double rotary_travel_a = 0.0, rotary_travel_c = 0.0;  // sum of |dA|, |dC| over moves (degrees)
+  double chord_tolerance = 0.0;   // used
+  double flat_strip_width = 0.0;  // 2 x_h on flat ground at the lead angle
+  double max_spacing = 0.0;       // largest measured distance between adjacent paths
+  double guaranteed_scallop = 0.0, guaranteed_overcut = 0.0;  // see the header
+  double coverage_gap = 0.0;      // sampled: largest distance from a face point to a path
+  double unreachable_length = 0.0;  // contact path left out (gouge, shank, A range)
+  double max_lead_used = 0.0;     // degrees
+  int lead_raised_points = 0;     // posted positions whose lead was raised
+  int paths = 0, retracts = 0;
+};
+
+struct FiveAxisResult {
+  Toolpath path;                  // tip positions (the bottom face's centre), work frame
+  std::vector<double> i, j, k;    // tool axis per move (unit)
+  std::vector<double> a, c;       // rotary angles per move (degrees), see the header
+  FiveAxisMetrics metrics;
+  std::vector<std::string> warnings;
+};
+
+// Throws InvalidArgument for bad parameters (naming the argument) or bad
+// face indices, GeometryError naming the face when OpenCASCADE fails,
+// Cancelled if the progress asks.
+FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int>& faces,
+                                const FiveAxisParams& params, Progress* progress = nullptr);
+
+// The A/C angles (degrees) of a sequence of unit axes, as the header says;
+// false at `bad[k]` where no A within [a_min, a_max] gives the axis.
+void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
+                const std::vector<double>& k, double a_min, double a_max,
+                std::vector<double>* a, std::vector<double>* c, std::vector<char>* ok);
+
+// The strip half-width x_h (mm) of the tilted flat end on ground of normal
+// curvature kappa_across (convex > 0) for the scallop h, lead and tilt in
+// degrees (the smaller side); R if the edge stays within h up to its reach.
+double flat_end_half_width(double radius, double lead_deg, double tilt_deg, double kappa_across,
+                           double h);
+
+}  // namespace isocam

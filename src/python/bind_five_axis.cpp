@@ -1,0 +1,130 @@
+// Bindings of 5-axis strip finishing (isocam/five_axis.h): parameters in,
+// flat numpy arrays out (move kind, tip xyz, axis ijk, rotary a c).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <memory>
+
+#include <Standard_Failure.hxx>
+
+#include "isocam/brep_io.h"
+#include "isocam/errors.h"
+#include "isocam/five_axis.h"
+
+namespace py = pybind11;
+using namespace isocam;
+
+namespace {
+
+struct PyFiveAxisResult {
+  py::array_t<std::uint8_t> kind;
+  py::array_t<double> xyz, ijk, ac;
+  FiveAxisMetrics metrics;
+  std::vector<std::string> warnings;
+};
+
+py::array_t<double> columns(const std::vector<double>& a, const std::vector<double>& b,
+                            const std::vector<double>* c) {
+  const auto n = static_cast<py::ssize_t>(a.size());
+  const py::ssize_t w = c ? 3 : 2;
+  py::array_t<double> out({n, w});
+  auto o = out.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    o(i, 0) = a[k];
+    o(i, 1) = b[k];
+    if (c) o(i, 2) = (*c)[k];
+  }
+  return out;
+}
+
+PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
+                     const FiveAxisParams& params, Progress* progress) {
+  FiveAxisResult r;
+  {
+    py::gil_scoped_release release;
+    try {
+      r = five_axis_finish(read_brep(brep), faces, params, progress);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(std::string("OpenCASCADE failed: ") + e.GetMessageString());
+    }
+  }
+  PyFiveAxisResult out;
+  out.kind = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(r.path.size()));
+  if (!r.path.empty()) std::memcpy(out.kind.mutable_data(), r.path.kind.data(), r.path.size());
+  out.xyz = columns(r.path.x, r.path.y, &r.path.z);
+  out.ijk = columns(r.i, r.j, &r.k);
+  out.ac = columns(r.a, r.c, nullptr);
+  out.metrics = r.metrics;
+  out.warnings = std::move(r.warnings);
+  return out;
+}
+
+}  // namespace
+
+void bind_five_axis(py::module_& m) {
+  py::class_<FiveAxisParams>(m, "FiveAxisParams", "Parameters of 5-axis strip finishing (mm, degrees)")
+      .def(py::init<>())
+      .def_readwrite("tool_radius", &FiveAxisParams::tool_radius)
+      .def_readwrite("corner_radius", &FiveAxisParams::corner_radius, "0 only (flat end)")
+      .def_readwrite("tool_length", &FiveAxisParams::tool_length)
+      .def_readwrite("lead_angle", &FiveAxisParams::lead_angle, "degrees")
+      .def_readwrite("tilt_angle", &FiveAxisParams::tilt_angle, "degrees")
+      .def_readwrite("max_lead_angle", &FiveAxisParams::max_lead_angle, "degrees")
+      .def_readwrite("scallop_height", &FiveAxisParams::scallop_height)
+      .def_readwrite("gouge_tolerance", &FiveAxisParams::gouge_tolerance)
+      .def_readwrite("chord_tolerance", &FiveAxisParams::chord_tolerance, "0: derived")
+      .def_readwrite("posted_resolution", &FiveAxisParams::posted_resolution)
+      .def_readwrite("max_axis_step", &FiveAxisParams::max_axis_step, "degrees")
+      .def_readwrite("a_min", &FiveAxisParams::a_min, "degrees")
+      .def_readwrite("a_max", &FiveAxisParams::a_max, "degrees")
+      .def_readwrite("direction", &FiveAxisParams::direction)
+      .def_readwrite("safe_z", &FiveAxisParams::safe_z)
+      .def_readwrite("air_clearance", &FiveAxisParams::air_clearance)
+      .def_readwrite("feed_rate", &FiveAxisParams::feed_rate, "mm/min")
+      .def_readwrite("plunge_rate", &FiveAxisParams::plunge_rate, "mm/min")
+      .def_readwrite("rapid_rate", &FiveAxisParams::rapid_rate, "mm/min")
+      .def_readwrite("protect_unpicked_faces", &FiveAxisParams::protect_unpicked_faces)
+      .def_readwrite("max_moves", &FiveAxisParams::max_moves);
+
+  py::class_<FiveAxisMetrics>(m, "FiveAxisMetrics")
+      .def_readonly("cutting_length", &FiveAxisMetrics::cutting_length)
+      .def_readonly("rapid_length", &FiveAxisMetrics::rapid_length)
+      .def_readonly("plunge_length", &FiveAxisMetrics::plunge_length)
+      .def_readonly("machine_time", &FiveAxisMetrics::machine_time, "s")
+      .def_readonly("cutting_time", &FiveAxisMetrics::cutting_time, "s")
+      .def_readonly("rotary_travel_a", &FiveAxisMetrics::rotary_travel_a, "degrees")
+      .def_readonly("rotary_travel_c", &FiveAxisMetrics::rotary_travel_c, "degrees")
+      .def_readonly("chord_tolerance", &FiveAxisMetrics::chord_tolerance)
+      .def_readonly("flat_strip_width", &FiveAxisMetrics::flat_strip_width)
+      .def_readonly("max_spacing", &FiveAxisMetrics::max_spacing)
+      .def_readonly("guaranteed_scallop", &FiveAxisMetrics::guaranteed_scallop)
+      .def_readonly("guaranteed_overcut", &FiveAxisMetrics::guaranteed_overcut)
+      .def_readonly("coverage_gap", &FiveAxisMetrics::coverage_gap)
+      .def_readonly("unreachable_length", &FiveAxisMetrics::unreachable_length)
+      .def_readonly("max_lead_used", &FiveAxisMetrics::max_lead_used, "degrees")
+      .def_readonly("lead_raised_points", &FiveAxisMetrics::lead_raised_points)
+      .def_readonly("paths", &FiveAxisMetrics::paths)
+      .def_readonly("retracts", &FiveAxisMetrics::retracts);
+
+  py::class_<PyFiveAxisResult>(m, "FiveAxisResult")
+      .def_readonly("kind", &PyFiveAxisResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge")
+      .def_readonly("xyz", &PyFiveAxisResult::xyz, "float64 (N,3): tool tip (bottom face centre), mm")
+      .def_readonly("ijk", &PyFiveAxisResult::ijk, "float64 (N,3): unit tool axis")
+      .def_readonly("ac", &PyFiveAxisResult::ac,
+                    "float64 (N,2): A, C (degrees), axis = (sinA sinC, -sinA cosC, cosA)")
+      .def_readonly("metrics", &PyFiveAxisResult::metrics)
+      .def_readonly("warnings", &PyFiveAxisResult::warnings);
+
+  m.def(
+      "five_axis_finish",
+      [](const std::string& brep, const std::vector<int>& faces, const FiveAxisParams& params,
+         std::shared_ptr<Progress> progress) { return run(brep, faces, params, progress.get()); },
+      py::arg("brep"), py::arg("faces"), py::arg("params"), py::arg("progress") = nullptr,
+      "5-axis strip finishing of the faces (0-based) with a tilted flat end.\n"
+      "Raises ValueError for bad arguments, RuntimeError for geometry failures.");
+  m.def("flat_end_half_width", &flat_end_half_width, py::arg("radius"), py::arg("lead"),
+        py::arg("tilt"), py::arg("kappa_across"), py::arg("h"));
+}

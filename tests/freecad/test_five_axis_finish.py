@@ -1,0 +1,191 @@
+"""5-Axis Strip Finish (issue 13) headless, measured from outside: on built
+faces (a tilted plane, a convex cylinder patch, a B-spline saddle) each job
+is posted with FreeCAD's linuxcnc post, read back by rs274 (which must
+accept it), and swept by tests/freecad/five_axis_check.py, which shares
+nothing with the core: the material left between passes and the overcut on
+the face, sampled from OpenCASCADE, must stay within the op's
+GuaranteedScallop and GuaranteedOvercut. Also: the G-code header states the
+A/C convention, C never jumps by more than half a turn, a ball end is
+refused by name, the saved document reopens with the op.
+
+Run: tests/freecad/run_in_freecad.sh tests/freecad/test_five_axis_finish.py
+"""
+
+import math
+import os
+import re
+import unittest
+
+import FreeCAD
+import Part
+
+import fc_test_support as support
+import five_axis_check as check
+from freecad_ext import five_axis_finish, scripting
+
+V = FreeCAD.Vector
+# The sweep's tool instances are STEP mm of tip travel apart: between two,
+# the disc's bottom, inclined at the lead, stands up to STEP / 2 x tan(lead)
+# above where the continuous sweep cuts, so "left" may read that much high;
+# "overcut" may read low by the rim's motion between instances, tiny.
+STEP = 0.01
+SIM_OVER = 0.0002
+
+
+def sim_left(op):
+    return 0.5 * STEP * math.tan(math.radians(op.MaxLeadUsed)) + 0.0002
+
+
+def tilted_plane():
+    """A 16 x 16 box top tilted by 15 degrees about X."""
+    box = Part.makeBox(16, 16, 6, V(-8, -8, -6))
+    box.rotate(V(0, 0, 0), V(1, 0, 0), 15)
+    return box
+
+
+def cylinder_patch():
+    """A solid cylinder of radius 20 (axis along Y, 16 mm long) cut by the
+    plane z = -3: its top is a convex cylindrical face about 21 mm wide."""
+    cyl = Part.makeCylinder(20.0, 16.0, V(0, -8, -20), V(0, 1, 0))
+    return cyl.common(Part.makeBox(40, 16, 20, V(-20, -8, -3)))
+
+
+def cylinder_face(shape):
+    return 1 + next(i for i, f in enumerate(shape.Faces) if f.Surface.TypeId == "Part::GeomCylinder")
+
+
+def saddle():
+    """A bicubic B-spline face 16 x 16: z = (x^2 - y^2) / 80 (convex one way, concave the other)."""
+    n = 6
+    poles = [[V(-8 + 16.0 * i / (n - 1), -8 + 16.0 * j / (n - 1),
+                ((-8 + 16.0 * i / (n - 1)) ** 2 - (-8 + 16.0 * j / (n - 1)) ** 2) / 80.0)
+              for j in range(n)] for i in range(n)]
+    surf = Part.BSplineSurface()
+    knots, mults = [0.0, 1.0 / 3, 2.0 / 3, 1.0], [4, 1, 1, 4]
+    surf.buildFromPolesMultsKnots(poles, mults, mults, knots, knots, False, False, 3, 3)
+    return Part.Face(surf)
+
+
+class Built:
+    def __init__(self, name, shape):
+        self.doc = FreeCAD.newDocument(name)
+        self.doc_name = self.doc.Name
+        self.model = self.doc.addObject("Part::Feature", "Model")
+        self.model.Shape = shape
+        self.job = scripting.make_job(self.model)
+        self.flat = scripting.make_tool_controller(self.job, "endmill.fcstd", 6.0)
+        self.doc.recompute()
+
+    @property
+    def clone(self):
+        return self.job.Model.Group[0]
+
+    def op(self, faces, tc=None, **props):
+        op = five_axis_finish.Create(five_axis_finish.OP_NAME, parentJob=self.job,
+                                     toolController=tc or self.flat)
+        op.Base = [(self.clone, ["Face%d" % f for f in faces])]
+        for k, v in props.items():
+            setattr(op, k, v)
+        self.doc.recompute()
+        return op
+
+    def close(self):
+        if self.doc_name in FreeCAD.listDocuments():
+            FreeCAD.closeDocument(self.doc_name)
+
+
+def top_face(shape):
+    """1-based index of the face whose centre is highest."""
+    best = max(range(len(shape.Faces)), key=lambda i: shape.Faces[i].CenterOfMass.z)
+    return best + 1
+
+
+class FiveAxisFinishTest(unittest.TestCase):
+    def post_and_read(self, built, op):
+        tmp = support.temp_dir(self)
+        ngc = os.path.join(tmp, "five.ngc")
+        gcode = scripting.post_job(built.job, ngc)
+        rs274 = support.rs274_or_fail(self)
+        run = scripting.run_rs274(ngc, {built.flat.ToolNumber: 6.0}, rs274=rs274)
+        self.assertTrue(run.ok, "rs274 refused the program: %s" % run.errors[:5])
+        return gcode, check.motions(run.canon)
+
+    def run_case(self, name, shape, pick, **props):
+        built = Built(name, shape)
+        self.addCleanup(built.close)
+        face_no = pick(built.clone.Shape)
+        op = built.op([face_no], **props)
+        self.assertNotIn("Invalid", op.State, op.getStatusString())
+        gcode, moves = self.post_and_read(built, op)
+        # The convention is stated in the posted program.
+        self.assertIn("[sin A sin C, -sin A cos C, cos A]", gcode)
+        self.assertIn("tool tip = centre of the flat bottom", gcode)
+        feeds = [m for m in moves if m[0] == "G1"]
+        self.assertGreater(len(feeds), 10)
+        for prev, cur in zip(moves, moves[1:]):
+            self.assertLessEqual(abs(cur[5] - prev[5]), 180.0 + 1e-6, "C jumps: %s -> %s" % (prev, cur))
+        for m in moves:
+            self.assertGreaterEqual(m[4], op.AMin.Value - 1e-3)
+            self.assertLessEqual(m[4], op.AMax.Value + 1e-3)
+        tips, axes = check.tool_instances(moves, step=STEP)
+        face = built.clone.Shape.Faces[face_no - 1]
+        pts, nrm = check.sample_face(face, 0.06, 0.5)
+        left, _ = check.measure(pts, nrm, tips, axes, 3.0, op.ToolLength.Value)
+        pts0, nrm0 = check.sample_face(face, 0.1, 0.0)
+        _, over = check.measure(pts0, nrm0, tips, axes, 3.0, op.ToolLength.Value)
+        reached = left[left < math.inf]
+        print("%s: %d samples, %d reached; left max %.5f (guaranteed %.5f), overcut max %.5f "
+              "(guaranteed %.5f); strip %.3f mm, %d passes, cutting %.1f mm, lead up to %.1f deg"
+              % (name, len(left), len(reached), reached.max() if len(reached) else -1,
+                 op.GuaranteedScallop.Value, over.max(), op.GuaranteedOvercut.Value,
+                 op.StripWidth.Value, op.Passes, op.CuttingLength.Value, op.MaxLeadUsed))
+        # Every sample of the face (away from its edges) is reached ...
+        self.assertEqual(len(reached), len(left), "samples no pass comes near")
+        # ... and within the guarantees.
+        self.assertLessEqual(op.GuaranteedScallop.Value, op.ScallopHeight.Value + 1e-9)
+        self.assertLessEqual(reached.max(), op.GuaranteedScallop.Value + sim_left(op))
+        self.assertLessEqual(over.max(), op.GuaranteedOvercut.Value + SIM_OVER)
+        return built, op, left, over
+
+    def test_tilted_plane(self):
+        _built, op, left, _over = self.run_case("Tilted", tilted_plane(), top_face)
+        # Flat ground: the strip is the tilted disc's, 2 x_h with
+        # R sin(lead) (1 - sqrt(1 - x_h^2 / R^2)) = h' (h' = h - errors), and
+        # the cusps are really there (the check sees material between passes).
+        self.assertGreater(op.StripWidth.Value, 1.3)
+        self.assertLess(op.StripWidth.Value, 1.8)
+        self.assertGreater(left.max(), 0.3 * op.ScallopHeight.Value)
+
+    def test_ball_end_refused_by_name(self):
+        built = Built("FiveBall", tilted_plane())
+        self.addCleanup(built.close)
+        ball = scripting.make_ball_end_tool_controller(built.job, 6.0)
+        op = built.op([top_face(built.clone.Shape)], tc=ball)
+        self.assertIn("Invalid", op.State)
+        self.assertIn("not a flat end mill", op.getStatusString())
+        self.assertEqual(len(op.Path.Commands), 0)
+
+    def test_saved_document_reopens(self):
+        built = Built("FiveSave", tilted_plane())
+        self.addCleanup(built.close)
+        op = built.op([top_face(built.clone.Shape)], LeadAngle=8.0)
+        length = op.CuttingLength.Value
+        self.assertGreater(length, 0)
+        path = os.path.join(support.temp_dir(self), "five.FCStd")
+        built.doc.saveAs(path)
+        name = op.Name
+        FreeCAD.closeDocument(built.doc.Name)
+        doc = FreeCAD.openDocument(path)
+        self.addCleanup(FreeCAD.closeDocument, doc.Name)
+        again = doc.getObject(name)
+        self.assertEqual(type(again.Proxy).__name__, "ObjectFiveAxisStripFinish")
+        self.assertAlmostEqual(again.LeadAngle.Value, 8.0)
+        again.touch()
+        doc.recompute()
+        self.assertNotIn("Invalid", again.State, again.getStatusString())
+        self.assertAlmostEqual(again.CuttingLength.Value, length, delta=1e-6 * length)
+        self.assertTrue(any(re.match(r"G1", c.Name) and "A" in c.Parameters for c in again.Path.Commands))
+
+
+if __name__ == "__main__":
+    unittest.main()
