@@ -10,6 +10,8 @@
 // Usage: isocam_finish_bench SOURCE_DIR [--quick]
 // Writes SOURCE_DIR/bench/results.json, SOURCE_DIR/bench/finish_results.md
 // and the table between the finish-bench markers of SOURCE_DIR/README.md.
+#include <BRepBndLib.hxx>
+#include <Bnd_Box.hxx>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -21,9 +23,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <BRepBndLib.hxx>
-#include <Bnd_Box.hxx>
 
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -60,10 +59,14 @@ std::vector<int> all_faces(const TopoDS_Shape& s) {
 
 const char* pattern_name(IsoPattern p) {
   switch (p) {
-    case IsoPattern::Adaptive: return "Adaptive";
-    case IsoPattern::Uniform: return "Uniform";
-    case IsoPattern::ParallelPlanes: return "ParallelPlanes";
-    case IsoPattern::ConstantScallop: return "ConstantScallop";
+    case IsoPattern::Adaptive:
+      return "Adaptive";
+    case IsoPattern::Uniform:
+      return "Uniform";
+    case IsoPattern::ParallelPlanes:
+      return "ParallelPlanes";
+    case IsoPattern::ConstantScallop:
+      return "ConstantScallop";
   }
   return "?";
 }
@@ -122,14 +125,17 @@ void write_json(const std::string& path, const std::vector<Row>& rows) {
   f << "[\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
-    const double ratio = r.m.lower_bound_length > 0 ? r.m.cutting_length / r.m.lower_bound_length : 0;
-    f << "  {\"model\": \"" << r.model << "\", \"pattern\": \"" << r.pattern << "\", \"faces\": "
-      << r.faces << ", \"ball_radius\": " << r.r << ", \"scallop_height\": " << r.h
-      << ", \"wall_time_s\": " << num(r.wall_s, 4) << ", \"cutting_length\": "
-      << num(r.m.cutting_length, 2) << ", \"lower_bound_length\": " << num(r.m.lower_bound_length, 2)
-      << ", \"L_over_Lstar\": " << num(ratio, 4) << ", \"rapid_length\": " << num(r.m.rapid_length, 2)
-      << ", \"retracts\": " << r.m.retracts << ", \"sub_isocurves\": " << r.m.sub_isocurves
-      << ", \"delta\": " << num(r.m.delta, 5) << ", \"delta_max\": " << num(r.m.delta_max, 5)
+    const double ratio =
+        r.m.lower_bound_length > 0 ? r.m.cutting_length / r.m.lower_bound_length : 0;
+    f << "  {\"model\": \"" << r.model << "\", \"pattern\": \"" << r.pattern
+      << "\", \"faces\": " << r.faces << ", \"ball_radius\": " << r.r
+      << ", \"scallop_height\": " << r.h << ", \"wall_time_s\": " << num(r.wall_s, 4)
+      << ", \"cutting_length\": " << num(r.m.cutting_length, 2)
+      << ", \"lower_bound_length\": " << num(r.m.lower_bound_length, 2)
+      << ", \"L_over_Lstar\": " << num(ratio, 4)
+      << ", \"rapid_length\": " << num(r.m.rapid_length, 2) << ", \"retracts\": " << r.m.retracts
+      << ", \"sub_isocurves\": " << r.m.sub_isocurves << ", \"delta\": " << num(r.m.delta, 5)
+      << ", \"delta_max\": " << num(r.m.delta_max, 5)
       << ", \"max_iso_distance\": " << num(r.m.max_iso_distance, 5)
       << ", \"measured_max_distance\": " << num(r.check.max_gap, 5)
       << ", \"guaranteed_scallop\": " << num(r.m.guaranteed_scallop, 5)
@@ -139,7 +145,8 @@ void write_json(const std::string& path, const std::vector<Row>& rows) {
       << ", \"cutting_time_min\": " << num(r.m.cutting_time / 60, 2)
       << ", \"plunge_length\": " << num(r.m.plunge_length, 2)
       << ", \"unreachable_length\": " << num(r.m.unreachable_length, 2)
-      << ", \"unreachable_samples\": " << r.check.unreachable << ", \"samples\": " << r.check.samples
+      << ", \"unreachable_samples\": " << r.check.unreachable
+      << ", \"samples\": " << r.check.samples
       << ", \"min_centre_clearance\": " << num(r.check.min_clearance, 5) << "}"
       << (i + 1 < rows.size() ? ",\n" : "\n");
   }
@@ -153,7 +160,8 @@ std::string table(const std::vector<Row>& rows) {
        "guaranteed scallop / overcut (mm) | min centre clearance / r |\n";
   t << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows) {
-    const double ratio = r.m.lower_bound_length > 0 ? r.m.cutting_length / r.m.lower_bound_length : 0;
+    const double ratio =
+        r.m.lower_bound_length > 0 ? r.m.cutting_length / r.m.lower_bound_length : 0;
     t << "| " << r.model << " (" << r.faces << (r.faces == 1 ? " face" : " faces") << ", r " << r.r
       << ", h " << r.h << ") | " << r.pattern << " | " << num(r.wall_s, 3) << " | "
       << num(r.m.cutting_length, 0) << " | " << num(ratio, 2) << " | " << num(r.m.rapid_length, 0)
@@ -204,7 +212,8 @@ int main(int argc, char** argv) {
       {"Figure 2 ruled surface, Auto", figure2, first, 5.0, 0.1, 200},
       {"MAT.brep", brep("MAT.brep"), first, 3.0, 0.01, 400},
       {"shell1.brep", brep("shell1.brep"), all_faces, 2.0, 0.01, 40},
-      {"house on the hill", test::house_on_the_hill, test::house_on_the_hill_picked, 3.0, 0.01, 150},
+      {"house on the hill", test::house_on_the_hill, test::house_on_the_hill_picked, 3.0, 0.01,
+       150},
       {"Ball.brep", brep("Ball.brep"), all_faces, 1.0, 0.01, 60},
       // OCCT's terrain scaled to 154 x 160 mm (312 x 323 poles): machine
       // time at scale; too large for the dense independent check.
@@ -213,10 +222,10 @@ int main(int argc, char** argv) {
   // OCCT's terrain scaled to 154 x 160 mm is not in the repository: give its
   // file in ISOCAM_TERRAIN_BREP to bench it too.
   if (const char* terrain = std::getenv("ISOCAM_TERRAIN_BREP"))
-    models.insert(models.begin() + 3,
-                  {"terrain.brep (154 x 160 mm)",
-                   [path = std::string(terrain)]() { return read_brep_file(path); }, first, 3.0,
-                   0.01, 400});
+    models.insert(
+        models.begin() + 3,
+        {"terrain.brep (154 x 160 mm)",
+         [path = std::string(terrain)]() { return read_brep_file(path); }, first, 3.0, 0.01, 400});
   if (quick) models.resize(2);
   std::vector<Row> rows;
   for (const Model& m : models)
@@ -233,25 +242,29 @@ int main(int argc, char** argv) {
       std::cout << r.model << " / " << r.pattern << ": " << num(r.wall_s, 3) << " s, L "
                 << num(r.m.cutting_length, 1) << " mm, L* " << num(r.m.lower_bound_length, 1)
                 << ", retracts " << r.m.retracts << ", machine " << num(r.m.machine_time / 60, 1)
-                << " min, cutting " << num(r.m.cutting_time / 60, 1) << " min, measured max distance "
-                << num(r.check.max_gap, 4) << ", min clearance " << num(r.check.min_clearance, 4)
-                << std::endl;
+                << " min, cutting " << num(r.m.cutting_time / 60, 1)
+                << " min, measured max distance " << num(r.check.max_gap, 4) << ", min clearance "
+                << num(r.check.min_clearance, 4) << std::endl;
     }
   const unsigned cores = std::thread::hardware_concurrency();
   std::ostringstream md;
   md << "Measured by `./run bench` on this project's machine (" << cores
      << " cores, Debian bookworm, Release build). delta is the flat-ground stepover "
         "2 sqrt(2 r h - h^2); the curvature-aware bound uses less on convex and up to 2 delta on "
-        "concave ground (the column gives the largest used). ParallelPlanes gives no guarantee: its "
+        "concave ground (the column gives the largest used). ParallelPlanes gives no guarantee: "
+        "its "
         "\"max iso-distance\" is the largest distance between adjacent passes and its \"guaranteed "
-        "scallop\" the flat-ground scallop of that, an estimate. Measured max distance: the largest "
-        "distance from a dense sampling of the picked faces, where the ball can touch, to the path's "
+        "scallop\" the flat-ground scallop of that, an estimate. Measured max distance: the "
+        "largest "
+        "distance from a dense sampling of the picked faces, where the ball can touch, to the "
+        "path's "
         "contact points; min centre clearance: the smallest distance from the ball centre to the "
         "whole model (both by tests/cpp/support/checks, independent of the core; - where not "
         "run). Machine and cutting time: the core's estimate at the same rates for every program "
         "(XY feed 1200 mm/min, pure Z 400, rapids 5000, no acceleration); the guarantees: "
         "material left above and cut below the design, everything included (chords, clearance "
-        "tolerance, 3-decimal posted coordinates) for the requested h and an OvercutTolerance of 0.005 mm.\n\n"
+        "tolerance, 3-decimal posted coordinates) for the requested h and an OvercutTolerance of "
+        "0.005 mm.\n\n"
      << table(rows);
   write_json(root + "/bench/results.json", rows);
   std::ofstream(root + "/bench/finish_results.md") << md.str();

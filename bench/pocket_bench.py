@@ -25,9 +25,7 @@ import traceback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-ADDON = os.environ.get("ISOCAM_ADDON_DIR") or os.path.join(
-    ROOT, "build", "addon", "IsoCAM"
-)
+ADDON = os.environ.get("ISOCAM_ADDON_DIR") or os.path.join(ROOT, "build", "addon", "IsoCAM")
 sys.path.insert(0, ADDON)
 
 import FreeCAD  # noqa: E402
@@ -70,9 +68,7 @@ def case_face_brep():
 
 
 def case_islands():
-    body = Part.makeBox(120, 80, 20).cut(
-        Part.makeBox(100, 60, 10, FreeCAD.Vector(10, 10, 10))
-    )
+    body = Part.makeBox(120, 80, 20).cut(Part.makeBox(100, 60, 10, FreeCAD.Vector(10, 10, 10)))
     body = body.fuse(Part.makeCylinder(8, 10, FreeCAD.Vector(40, 35, 10)))
     body = body.fuse(Part.makeCylinder(5, 10, FreeCAD.Vector(92, 56, 10)))
     pts = [
@@ -92,9 +88,7 @@ def case_islands():
 def case_merge_lake():
     # Two islands 6 mm apart (their offsets merge) and one 3 mm from a wall
     # (its offsets meet the boundary's: lakes).
-    body = Part.makeBox(140, 90, 20).cut(
-        Part.makeBox(120, 70, 10, FreeCAD.Vector(10, 10, 10))
-    )
+    body = Part.makeBox(140, 90, 20).cut(Part.makeBox(120, 70, 10, FreeCAD.Vector(10, 10, 10)))
     for x, y, r in ((50, 50, 12), (80, 50, 12), (115, 26, 13)):
         body = body.fuse(Part.makeCylinder(r, 10, FreeCAD.Vector(x, y, 10)))
     return body.removeSplitter(), 10.0
@@ -179,14 +173,10 @@ def _freecad_op(*names):
 def make_ops(doc, job, tc, base, floor_sub):
     ops = {}
     with compat.active_document(doc):
-        iso = spiral_pocket.Create(
-            "IsoCAM_SpiralPocket", parentJob=job, toolController=tc
-        )
+        iso = spiral_pocket.Create("IsoCAM_SpiralPocket", parentJob=job, toolController=tc)
         iso.StepOver = STEPOVER
         ops["IsoCAM Spiral Pocket"] = iso
-        PathPocketShape = _freecad_op(
-            "Path.Op.PocketShape", "PathScripts.PathPocketShape"
-        )
+        PathPocketShape = _freecad_op("Path.Op.PocketShape", "PathScripts.PathPocketShape")
         PathAdaptive = _freecad_op("Path.Op.Adaptive", "PathScripts.PathAdaptive")
 
         for pattern in ("Offset", "ZigZag"):
@@ -221,8 +211,7 @@ def run_case(title, build):
             (
                 (i, f)
                 for i, f in enumerate(clone.Shape.Faces)
-                if abs(f.BoundBox.ZMin - z_floor) < 1e-6
-                and abs(f.BoundBox.ZMax - z_floor) < 1e-6
+                if abs(f.BoundBox.ZMin - z_floor) < 1e-6 and abs(f.BoundBox.ZMax - z_floor) < 1e-6
             ),
             key=lambda item: item[1].Area,
         )[0]
@@ -232,9 +221,7 @@ def run_case(title, build):
         results = {}
         for name, op in ops.items():
             try:
-                results[name] = run_op(
-                    doc, op, core, profiles, z_floor, TOOL_DIAMETER / 2
-                )
+                results[name] = run_op(doc, op, core, profiles, z_floor, TOOL_DIAMETER / 2)
             except Exception as exc:  # a FreeCAD op failing is a result too
                 results[name] = {"error": "%s: %s" % (type(exc).__name__, exc)}
         return {
@@ -256,8 +243,7 @@ def table(all_results):
         for name, r in case["ops"].items():
             if "error" in r:
                 lines.append(
-                    "| %s | %s | failed: %s |||||||"
-                    % (case["case"], name, r["error"][:60])
+                    "| %s | %s | failed: %s |||||||" % (case["case"], name, r["error"][:60])
                 )
                 continue
             lines.append(

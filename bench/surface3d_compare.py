@@ -153,7 +153,10 @@ def _freecad_runs(mode):
         )
         with open(os.path.join(OUT, name + ".json"), "w") as out:
             json.dump(meta, out, indent=1)
-        print("%s: %.1f s wall, %.1f s CPU, %d commands" % (name, meta["wall_s"], meta["cpu_s"], meta["commands"]))
+        print(
+            "%s: %.1f s wall, %.1f s CPU, %d commands"
+            % (name, meta["wall_s"], meta["cpu_s"], meta["commands"])
+        )
         sys.stdout.flush()
         FreeCAD.closeDocument(doc.Name)
 
@@ -170,12 +173,20 @@ def _freecad_runs(mode):
             from freecad_ext import adaptive_isocurve
 
             doc, job, tc = job_for(case, "IsoCAM_" + case.key)
-            op = adaptive_isocurve.Create(adaptive_isocurve.OP_NAME, parentJob=job, toolController=tc)
+            op = adaptive_isocurve.Create(
+                adaptive_isocurve.OP_NAME, parentJob=job, toolController=tc
+            )
             clone = job.Model.Group[0]
             op.Base = [(clone, ["Face%d" % f for f in faces_of(case, job)])]
             op.ScallopHeight = case.scallop
             wall, cpu = timed_recompute(doc)
-            meta = dict(base, op="IsoCAM Adaptive Isocurve", faces=faces_of(case, job), wall_s=wall, cpu_s=cpu)
+            meta = dict(
+                base,
+                op="IsoCAM Adaptive Isocurve",
+                faces=faces_of(case, job),
+                wall_s=wall,
+                cpu_s=cpu,
+            )
             meta["guaranteed_scallop"] = op.GuaranteedScallop.Value
             meta["guaranteed_overcut"] = op.GuaranteedOvercut.Value
             meta["op_machine_time_min"] = op.MachineTime / 60.0
@@ -263,20 +274,34 @@ def _simulate(case, meta, sim, rs274):
             return json.load(f)
     table = os.path.join(OUT, "tool%d.tbl" % meta["tool_number"])
     with open(table, "w") as out:
-        out.write("T%d P%d D%.4f Z+0.0000 ;\n" % (meta["tool_number"], meta["tool_number"], 2 * case.radius))
+        out.write(
+            "T%d P%d D%.4f Z+0.0000 ;\n"
+            % (meta["tool_number"], meta["tool_number"], 2 * case.radius)
+        )
     cmd = [
         sim,
-        "--brep", os.path.join(DATA, case.name),
-        "--faces", ",".join(str(f) for f in meta["faces"]),
-        "--radius", repr(case.radius),
-        "--gcode", ngc,
-        "--rs274", rs274,
-        "--tool-table", table,
-        "--spacing", repr(case.spacing),
-        "--scallop", repr(case.scallop),
-        "--rapid-rate", repr(RAPID_RATE),
-        "--threads", "2",
-        "--canon-out", ngc[: -len(".ngc")] + ".canon",
+        "--brep",
+        os.path.join(DATA, case.name),
+        "--faces",
+        ",".join(str(f) for f in meta["faces"]),
+        "--radius",
+        repr(case.radius),
+        "--gcode",
+        ngc,
+        "--rs274",
+        rs274,
+        "--tool-table",
+        table,
+        "--spacing",
+        repr(case.spacing),
+        "--scallop",
+        repr(case.scallop),
+        "--rapid-rate",
+        repr(RAPID_RATE),
+        "--threads",
+        "2",
+        "--canon-out",
+        ngc[: -len(".ngc")] + ".canon",
     ]
     started = time.monotonic()
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -291,7 +316,9 @@ def _simulate(case, meta, sim, rs274):
 
 def _row(meta, sim):
     row = dict(meta)
-    minutes, z_feed, xy_feed, rapid = rule_machine_time(os.path.join(OUT, meta["ngc"][: -len(".ngc")] + ".canon"))
+    minutes, z_feed, xy_feed, rapid = rule_machine_time(
+        os.path.join(OUT, meta["ngc"][: -len(".ngc")] + ".canon")
+    )
     row.update(
         {
             "machine_time_min": minutes,
@@ -322,8 +349,16 @@ def _row(meta, sim):
 def _summary(case, iso, surfaces):
     """The issue's comparison for one model: the coarsest 3D Surface run whose
     measured material left is no more than IsoCAM's."""
-    same = [s for s in surfaces if s["measured_left"] <= iso["measured_left"] and s["uncovered_samples"] == 0]
-    out = {"model": case.name, "isocam_left": iso["measured_left"], "isocam_machine_time_min": iso["machine_time_min"]}
+    same = [
+        s
+        for s in surfaces
+        if s["measured_left"] <= iso["measured_left"] and s["uncovered_samples"] == 0
+    ]
+    out = {
+        "model": case.name,
+        "isocam_left": iso["measured_left"],
+        "isocam_machine_time_min": iso["machine_time_min"],
+    }
     if same:
         best = max(same, key=lambda s: s["stepover_percent"])
         out.update(
@@ -364,8 +399,7 @@ def _table(rows, summaries, machine):
         "FreeCAD 1.0 with OpenCamLib in the trixie chroot; the same machine). 3D Surface: Planar, "
         "Line at 0 degrees, single pass, the whole model in the stock's bound box, OptimizeLinearPaths "
         "on (FreeCAD's default); stepover, sample interval and mesh deflection (LinearDeflection) as "
-        "shown."
-        % (machine, VERT_FEED, HORIZ_FEED, RAPID_RATE),
+        "shown." % (machine, VERT_FEED, HORIZ_FEED, RAPID_RATE),
         "",
         "| model | operation | stepover / sample interval / mesh deflection (mm) | compute wall / CPU (s) | machine time (min) "
         "| cutting (mm) | rapid (mm) | moves | material left (mm) | within h | overcut (mm) | rapid overcut (mm) |",
@@ -376,22 +410,43 @@ def _table(rows, summaries, machine):
             step = "adaptive (h %g)" % r["scallop_height"]
         else:
             step = "%.3f (%g %%) / %g / %g" % (
-                r["stepover_mm"], r["stepover_percent"], r["sample_interval"], r["linear_deflection"]
+                r["stepover_mm"],
+                r["stepover_percent"],
+                r["sample_interval"],
+                r["linear_deflection"],
             )
-        within = "-" if r["within_scallop_fraction"] is None else "%.2f %%" % (100 * r["within_scallop_fraction"])
+        within = (
+            "-"
+            if r["within_scallop_fraction"] is None
+            else "%.2f %%" % (100 * r["within_scallop_fraction"])
+        )
         left = "%.4f" % r["measured_left"]
         if r["uncovered_samples"]:
             left = ">= 0.5 (%d points)" % r["uncovered_samples"]
         lines.append(
             "| %s (r %g, h %g) | %s | %s | %.1f / %.1f | %.1f | %.0f | %.0f | %d | %s | %s | %.4f | %.4f |"
             % (
-                r["model"], r["radius"], r["scallop_height"], r["op"], step, r["wall_s"], r["cpu_s"],
-                r["machine_time_min"], r["cutting_length"], r["rapid_length"], r["moves"], left, within,
-                r["measured_overcut"], r["rapid_overcut"],
+                r["model"],
+                r["radius"],
+                r["scallop_height"],
+                r["op"],
+                step,
+                r["wall_s"],
+                r["cpu_s"],
+                r["machine_time_min"],
+                r["cutting_length"],
+                r["rapid_length"],
+                r["moves"],
+                left,
+                within,
+                r["measured_overcut"],
+                r["rapid_overcut"],
             )
         )
     lines.append("")
-    lines.append("At the same measured material left (the coarsest 3D Surface run leaving no more than IsoCAM):")
+    lines.append(
+        "At the same measured material left (the coarsest 3D Surface run leaving no more than IsoCAM):"
+    )
     lines.append("")
     for s in summaries:
         if s["reached"]:
@@ -399,8 +454,12 @@ def _table(rows, summaries, machine):
                 "- %s: IsoCAM %.1f min (left %.4f mm); 3D Surface at %g %% %.1f min (left %.4f mm): "
                 "IsoCAM takes %.0f %% of its machine time."
                 % (
-                    s["model"], s["isocam_machine_time_min"], s["isocam_left"], s["surface_stepover_percent"],
-                    s["surface_machine_time_min"], s["surface_left"],
+                    s["model"],
+                    s["isocam_machine_time_min"],
+                    s["isocam_left"],
+                    s["surface_stepover_percent"],
+                    s["surface_machine_time_min"],
+                    s["surface_left"],
                     100 * s["isocam_machine_time_min"] / s["surface_machine_time_min"],
                 )
             )
@@ -409,7 +468,10 @@ def _table(rows, summaries, machine):
                 "- %s: IsoCAM %.1f min (left %.4f mm); no 3D Surface run reached it: the finest, %g %%, "
                 "takes %.1f min and leaves %s mm."
                 % (
-                    s["model"], s["isocam_machine_time_min"], s["isocam_left"], s["surface_stepover_percent"],
+                    s["model"],
+                    s["isocam_machine_time_min"],
+                    s["isocam_left"],
+                    s["surface_stepover_percent"],
                     s["surface_machine_time_min"],
                     ">= 0.5" if s.get("surface_uncovered_samples") else "%.4f" % s["surface_left"],
                 )
@@ -431,9 +493,13 @@ def _splice_readme(md):
 
 
 def _report():
-    sim = os.environ.get("ISOCAM_SIM") or os.path.join(ROOT, "build", "tests", "sim", "isocam_gcode_sim")
+    sim = os.environ.get("ISOCAM_SIM") or os.path.join(
+        ROOT, "build", "tests", "sim", "isocam_gcode_sim"
+    )
     rs274 = os.environ.get("ISOCAM_RS274", "rs274")
-    machine = os.environ.get("ISOCAM_S3D_MACHINE") or "this project's machine (%d cores)" % os.cpu_count()
+    machine = (
+        os.environ.get("ISOCAM_S3D_MACHINE") or "this project's machine (%d cores)" % os.cpu_count()
+    )
     rows, summaries, missing = [], [], []
     for case in CASES:
         metas = []

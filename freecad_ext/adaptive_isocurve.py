@@ -103,8 +103,7 @@ _OUTPUTS = (
         "delta",
         QT_TRANSLATE_NOOP(
             "App::Property",
-            "Stepover that leaves ScallopHeight on flat ground (the "
-            "iso-distance bound)",
+            "Stepover that leaves ScallopHeight on flat ground (the " "iso-distance bound)",
         ),
     ),
     (
@@ -157,8 +156,7 @@ _OUTPUTS = (
         "chord_tolerance",
         QT_TRANSLATE_NOOP(
             "App::Property",
-            "The chord tolerance used (derived from the budgets, or "
-            "ChordTolerance)",
+            "The chord tolerance used (derived from the budgets, or " "ChordTolerance)",
         ),
     ),
     (
@@ -178,8 +176,7 @@ _OUTPUTS = (
         "cutting_time",
         QT_TRANSLATE_NOOP(
             "App::Property",
-            "Estimated time (s) of the feed moves (passes and the links along "
-            "the surface)",
+            "Estimated time (s) of the feed moves (passes and the links along " "the surface)",
         ),
     ),
     (
@@ -584,10 +581,9 @@ def _iso_params(obj, core, ball_radius):
     params.chord_tolerance = obj.ChordTolerance.Value
     if not 0 <= obj.PostPrecision <= 9:
         raise IsoCAMError(
-            translate("IsoCAM", "PostPrecision must be 0..9 decimals (got %d)")
-            % obj.PostPrecision
+            translate("IsoCAM", "PostPrecision must be 0..9 decimals (got %d)") % obj.PostPrecision
         )
-    params.posted_resolution = 10.0 ** -obj.PostPrecision
+    params.posted_resolution = 10.0**-obj.PostPrecision
     params.air_clearance = obj.AirClearance.Value
     params.feed_rate, params.plunge_rate = _feeds_mm_min(obj)
     params.rapid_rate = _rapid_mm_min(obj)

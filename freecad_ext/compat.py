@@ -82,9 +82,7 @@ def __getattr__(name):
     try:
         names = _MODULES[name]
     except KeyError:
-        raise AttributeError(
-            "module %r has no attribute %r" % (__name__, name)
-        ) from None
+        raise AttributeError("module %r has no attribute %r" % (__name__, name)) from None
     module = _import_first(*names)
     globals()[name] = module
     return module

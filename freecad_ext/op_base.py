@@ -170,7 +170,9 @@ class IsoCAMOp(PathOp.ObjectOp):
         and attribute assignment are all it supports.
         """
         added = []
-        for prop_type, name, group, tip in tuple(self.opPropertyDefinitions()) + _COMMON_DEFINITIONS:
+        for prop_type, name, group, tip in (
+            tuple(self.opPropertyDefinitions()) + _COMMON_DEFINITIONS
+        ):
             if not hasattr(obj, name):
                 obj.addProperty(prop_type, name, group, tip)
                 added.append(name)
@@ -186,7 +188,9 @@ class IsoCAMOp(PathOp.ObjectOp):
         for prop_type, name, _attr, tip in self.OUTPUTS:
             if not hasattr(obj, name):
                 obj.addProperty(prop_type, name, OUTPUT_GROUP, tip)
-            elif hasattr(obj, "setGroupOfProperty") and obj.getGroupOfProperty(name) != OUTPUT_GROUP:
+            elif (
+                hasattr(obj, "setGroupOfProperty") and obj.getGroupOfProperty(name) != OUTPUT_GROUP
+            ):
                 # Before issue 14 the pocketing ops kept them in "Result".
                 obj.setGroupOfProperty(name, OUTPUT_GROUP)
             obj.setEditorMode(name, 1)  # read-only in the property editor
@@ -369,7 +373,8 @@ def check_moves(proxy, obj, results, clearance):
             continue
         if not all(math.isfinite(v) for v in xyz.ravel().tolist()):
             proxy.fail(
-                obj, translate("IsoCAM", "the core returned a move that is not finite (please report)")
+                obj,
+                translate("IsoCAM", "the core returned a move that is not finite (please report)"),
             )
         z = float(xyz[:, 2].max())
         top = z if top is None else max(top, z)

@@ -148,9 +148,7 @@ def spec_named(name, table=OPERATIONS):
 
 # -- resources --------------------------------------------------------------
 
-RESOURCES = os.path.join(
-    os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "Resources"
-)
+RESOURCES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "Resources")
 GENERIC_ICON = os.path.join(RESOURCES, "icons", "IsoCAM.svg")
 
 

@@ -31,9 +31,7 @@ def make_tool_controller(
     shipped with FreeCAD) and a tool controller for it, added to `job`."""
     number = job.Proxy.nextToolNumber() if number is None else number
     shape = shape_file.split(".")[0]
-    bit = compat.make_tool_bit(
-        job.Document, shape_file, diameter, "%s %g mm" % (shape, diameter)
-    )
+    bit = compat.make_tool_bit(job.Document, shape_file, diameter, "%s %g mm" % (shape, diameter))
     with compat.active_document(job.Document):  # the factory adds to it
         tc = compat.PathToolController.Create(
             label or "TC: %s %g mm" % (shape, diameter), tool=bit, toolNumber=number
@@ -55,12 +53,8 @@ class _FixtureSetup:
 
     def __init__(self, job, fixture):
         self.Name = self.Label = fixture
-        clearance = (
-            job.Stock.Shape.BoundBox.ZMax + job.SetupSheet.ClearanceHeightOffset.Value
-        )
-        self.Path = Path.Path(
-            [Path.Command(fixture), Path.Command("G0", {"Z": clearance})]
-        )
+        clearance = job.Stock.Shape.BoundBox.ZMax + job.SetupSheet.ClearanceHeightOffset.Value
+        self.Path = Path.Path([Path.Command(fixture), Path.Command("G0", {"Z": clearance})])
 
 
 def post_list(job, postname="linuxcnc"):
@@ -145,9 +139,5 @@ def run_rs274(ngc_file, tools, rs274="rs274", workdir=None):
             text=True,
             cwd=tmp,
         )
-    errors = [
-        line
-        for line in proc.stderr.splitlines()
-        if line.strip() not in ("", "executing")
-    ]
+    errors = [line for line in proc.stderr.splitlines() if line.strip() not in ("", "executing")]
     return Rs274Result(proc.returncode, errors, proc.stdout.splitlines())

@@ -38,9 +38,7 @@ _OUTPUTS = pocket_glue.OUTPUTS
 
 
 # Core argument names -> what the FreeCAD user sets.
-_ARGUMENT_SOURCES = pocket_glue.argument_sources(
-    (("scallop_height", "property ScallopHeight"),)
-)
+_ARGUMENT_SOURCES = pocket_glue.argument_sources((("scallop_height", "property ScallopHeight"),))
 
 
 class ObjectSpiralPocket(pocket_glue.PocketOp):
@@ -133,9 +131,7 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
             brep = base.Shape.exportBrepToString()
 
             def call(progress, brep=brep, faces=faces):
-                return core.pocket_faces(
-                    brep, faces, params, levels, ball_end, progress
-                )
+                return core.pocket_faces(brep, faces, params, levels, ball_end, progress)
 
             res = self.run_core(core, call, translate("IsoCAM", "Spiral pocket"))
             for message in res.metrics.messages:
@@ -151,7 +147,6 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
                 )
             )
         return results
-
 
 
 class _Combined:

@@ -33,9 +33,7 @@ DIRECTIONS = pocket_glue.DIRECTIONS
 _OUTPUTS = pocket_glue.OUTPUTS
 
 
-_ARGUMENT_SOURCES = pocket_glue.argument_sources(
-    (("stock_to_leave", "property StockToLeave"),)
-)
+_ARGUMENT_SOURCES = pocket_glue.argument_sources((("stock_to_leave", "property StockToLeave"),))
 
 
 class ObjectZLevelRoughing(pocket_glue.PocketOp):
@@ -142,9 +140,7 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
         stl = obj.StockToLeave.Value
 
         def call(progress):
-            return core.zlevel_roughing(
-                model_brep, stock_brep, params, levels, stl, progress
-            )
+            return core.zlevel_roughing(model_brep, stock_brep, params, levels, stl, progress)
 
         res = self.run_core(core, call, translate("IsoCAM", "Z-level roughing"))
         for message in res.metrics.messages:

@@ -63,9 +63,7 @@ def build_job(adaptive_isocurve, scripting):
     tc = scripting.make_ball_end_tool_controller(
         job, BALL_DIAMETER, horiz_feed="1200 mm/min", vert_feed="400 mm/min"
     )
-    op = adaptive_isocurve.Create(
-        adaptive_isocurve.OP_NAME, parentJob=job, toolController=tc
-    )
+    op = adaptive_isocurve.Create(adaptive_isocurve.OP_NAME, parentJob=job, toolController=tc)
     op.Base = [(job.Model.Group[0], ["Face1"])]
     op.ScallopHeight = SCALLOP
     return doc, job, tc, op
@@ -151,16 +149,10 @@ def draw(op, face, png):
 
     top = fig.add_subplot(1, 2, 1)
     xyz, tris = mesh(0.2)
-    shade = top.tripcolor(
-        xyz[:, 0], xyz[:, 1], tris, xyz[:, 2], cmap="terrain", shading="gouraud"
-    )
+    shade = top.tripcolor(xyz[:, 0], xyz[:, 1], tris, xyz[:, 2], cmap="terrain", shading="gouraud")
+    top.add_collection(LineCollection([f[:, :2] for f in feeds], colors="k", linewidths=0.25))
     top.add_collection(
-        LineCollection([f[:, :2] for f in feeds], colors="k", linewidths=0.25)
-    )
-    top.add_collection(
-        LineCollection(
-            [r[:, :2] for r in rapids], colors="tab:red", linewidths=0.4, alpha=0.5
-        )
+        LineCollection([r[:, :2] for r in rapids], colors="tab:red", linewidths=0.4, alpha=0.5)
     )
     top.autoscale()
     top.set_aspect("equal")
@@ -183,12 +175,8 @@ def draw(op, face, png):
     # Two-point segments, not the ragged polylines: matplotlib 3.10's
     # Line3DCollection turns its segments into one array (matplotlib issue
     # 30418), which polylines of different lengths cannot make.
-    segments = [
-        np.stack([f[:-1], f[1:]], axis=1) for f in feeds[::3] if len(f) > 1
-    ]
-    side.add_collection3d(
-        Line3DCollection(np.concatenate(segments), colors="k", linewidths=0.35)
-    )
+    segments = [np.stack([f[:-1], f[1:]], axis=1) for f in feeds[::3] if len(f) > 1]
+    side.add_collection3d(Line3DCollection(np.concatenate(segments), colors="k", linewidths=0.35))
     side.view_init(elev=38, azim=-58)
     side.set_box_aspect(tuple(np.ptp(xyz, axis=0)))
     side.set_xlabel("x (mm)")
@@ -238,10 +226,7 @@ def main():
     doc.saveAs(fcstd)
 
     print("")
-    print(
-        "IsoCAM demo: MAT.brep, %g mm ball end, scallop %g mm"
-        % (BALL_DIAMETER, SCALLOP)
-    )
+    print("IsoCAM demo: MAT.brep, %g mm ball end, scallop %g mm" % (BALL_DIAMETER, SCALLOP))
     print("  direction used       %s" % op.DirectionUsed)
     print("  sub-isocurves        %d" % op.SubIsocurves)
     print("  retracts             %d" % op.Retracts)

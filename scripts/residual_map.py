@@ -33,13 +33,20 @@ def simulator(path):
 def run_simulator(args, map_file):
     cmd = [
         simulator(args.sim),
-        "--brep", args.brep,
-        "--faces", args.faces,
-        "--radius", repr(args.radius),
-        "--gcode", args.gcode,
-        "--spacing", repr(args.spacing),
-        "--map", map_file,
-        "--map-step", repr(args.step),
+        "--brep",
+        args.brep,
+        "--faces",
+        args.faces,
+        "--radius",
+        repr(args.radius),
+        "--gcode",
+        args.gcode,
+        "--spacing",
+        repr(args.spacing),
+        "--map",
+        map_file,
+        "--map-step",
+        repr(args.step),
     ]
     if args.tool_table:
         cmd += ["--tool-table", args.tool_table]
@@ -85,11 +92,20 @@ def draw(step, data, png, summary=None, limit=None):
     extent = (x.min() - step / 2, x.max() + step / 2, y.min() - step / 2, y.max() + step / 2)
     fig, ax = plt.subplots(figsize=(9, 8), dpi=130)
     im = ax.imshow(
-        img, origin="lower", extent=extent, cmap=cmap, vmin=-limit, vmax=limit,
+        img,
+        origin="lower",
+        extent=extent,
+        cmap=cmap,
+        vmin=-limit,
+        vmax=limit,
         interpolation="nearest",
     )
-    fig.colorbar(im, ax=ax, shrink=0.85,
-                 label="residual (mm): > 0 material left, < 0 overcut; grey: out of reach")
+    fig.colorbar(
+        im,
+        ax=ax,
+        shrink=0.85,
+        label="residual (mm): > 0 material left, < 0 overcut; grey: out of reach",
+    )
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
@@ -98,13 +114,28 @@ def draw(step, data, png, summary=None, limit=None):
         left, cut = summary["left"], summary["overcut"]
         for e, mark, name in ((left, "^", "most left"), (cut, "v", "deepest overcut")):
             if e["at"]:
-                ax.plot(e["at"][0], e["at"][1], mark, ms=11, mfc="none", mec="k", mew=1.5,
-                        label="%s %.4f mm" % (name, e["max"]))
+                ax.plot(
+                    e["at"][0],
+                    e["at"][1],
+                    mark,
+                    ms=11,
+                    mfc="none",
+                    mec="k",
+                    mew=1.5,
+                    label="%s %.4f mm" % (name, e["max"]),
+                )
         ax.legend(loc="upper right", fontsize=8)
-        title += "\nball r %g mm: most left %.4f mm, deepest overcut %.4f mm (rapids %.4f), " \
-                 "%.1f %% reachable" % (summary["ball_radius"], left["max"], cut["max"],
-                                        summary["rapid_overcut"]["max"],
-                                        100 * summary["reachable_fraction"])
+        title += (
+            "\nball r %g mm: most left %.4f mm, deepest overcut %.4f mm (rapids %.4f), "
+            "%.1f %% reachable"
+            % (
+                summary["ball_radius"],
+                left["max"],
+                cut["max"],
+                summary["rapid_overcut"]["max"],
+                100 * summary["reachable_fraction"],
+            )
+        )
     ax.set_title(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(png)
@@ -143,13 +174,22 @@ def main(argv=None):
         if args.json:
             with open(args.json, "w") as out:
                 json.dump(summary, out, indent=2)
-        print("most material left  %.5f mm at %s (face %d)"
-              % (summary["left"]["max"], summary["left"]["at"], summary["left"]["face"]))
-        print("deepest overcut     %.5f mm at %s (face %d); by rapids %.5f mm"
-              % (summary["overcut"]["max"], summary["overcut"]["at"], summary["overcut"]["face"],
-                 summary["rapid_overcut"]["max"]))
-        print("reachable           %.2f %% of the picked area"
-              % (100 * summary["reachable_fraction"]))
+        print(
+            "most material left  %.5f mm at %s (face %d)"
+            % (summary["left"]["max"], summary["left"]["at"], summary["left"]["face"])
+        )
+        print(
+            "deepest overcut     %.5f mm at %s (face %d); by rapids %.5f mm"
+            % (
+                summary["overcut"]["max"],
+                summary["overcut"]["at"],
+                summary["overcut"]["face"],
+                summary["rapid_overcut"]["max"],
+            )
+        )
+        print(
+            "reachable           %.2f %% of the picked area" % (100 * summary["reachable_fraction"])
+        )
     step, data = read_map(map_file)
     draw(step, data, args.png, summary, args.limit)
     print("wrote %s" % args.png)

@@ -130,8 +130,7 @@ def _offer_ball_end_tool_controller(spec, job):
     dialog.setInputMode(QtGui.QInputDialog.DoubleInput)
     dialog.setLabelText(
         "%s needs a ball-end tool and Job '%s' has none.\n"
-        "Add a ball-end tool controller of diameter (mm):"
-        % (spec.menu_text, job.Label)
+        "Add a ball-end tool controller of diameter (mm):" % (spec.menu_text, job.Label)
     )
     dialog.setDoubleDecimals(3)
     dialog.setDoubleRange(0.1, 100.0)
@@ -189,9 +188,7 @@ def create_operation(spec):
     module = spec.import_module()
     doc.openTransaction("Create %s" % spec.menu_text)
     try:
-        obj = module.Create(
-            getattr(module, "OP_NAME", spec.name), parentJob=job, toolController=tc
-        )
+        obj = module.Create(getattr(module, "OP_NAME", spec.name), parentJob=job, toolController=tc)
         preferences.apply_defaults(
             obj, getattr(module, "OP_NAME", spec.name), module.SetupProperties(), job
         )
@@ -216,10 +213,7 @@ class _Manipulator:
     the anchors exist there and nowhere else."""
 
     def modifyToolBars(self):
-        return [
-            {"append": spec.command, "toolBar": OPERATIONS_TOOLBAR}
-            for spec in _registered
-        ]
+        return [{"append": spec.command, "toolBar": OPERATIONS_TOOLBAR} for spec in _registered]
 
     def modifyMenuBar(self):
         items = []
@@ -317,9 +311,7 @@ def install():
 
     from freecad_ext.gui import preferences_page
 
-    FreeCADGui.addPreferencePage(
-        preferences_page.PreferencesPage, compat.preference_group()
-    )
+    FreeCADGui.addPreferencePage(preferences_page.PreferencesPage, compat.preference_group())
     if hasattr(FreeCADGui, "addWorkbenchManipulator"):
         FreeCADGui.addWorkbenchManipulator(_Manipulator())
     if _observer is None:

@@ -80,9 +80,7 @@ def wait(worker, progress, title):
                 dialog.show()
             if dialog is None:
                 # Not yet modal: paint only, user input waits in the queue.
-                QtGui.QApplication.processEvents(
-                    QtCore.QEventLoop.ExcludeUserInputEvents
-                )
+                QtGui.QApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents)
                 continue
             dialog.setValue(int(1000 * progress.fraction))
             # The modal dialog blocks input to every other window, so only

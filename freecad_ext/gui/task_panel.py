@@ -58,9 +58,7 @@ class QuantityBinding:
         value = self.typed()
         prop = getattr(self.helper.obj, self.prop)
         if (
-            value is not None
-            and value != prop.Value
-            and not self.helper.expression()
+            value is not None and value != prop.Value and not self.helper.expression()
         ):  # the spin box rounded what the user typed
             setattr(self.helper.obj, self.prop, FreeCAD.Units.Quantity(value, prop.Unit))
 
@@ -373,9 +371,7 @@ class OperationPage(_base.TaskPanelPage):
 
     def inputs(self):
         values = {prop: b.typed() for prop, b in self.bindings.items()}
-        faces = [
-            (base.Label, sub) for base, subs in (self.obj.Base or []) for sub in subs
-        ]
+        faces = [(base.Label, sub) for base, subs in (self.obj.Base or []) for sub in subs]
         return operations.Inputs(values, self._chosen_tool_controller(), faces)
 
     def validate(self):
@@ -387,8 +383,7 @@ class OperationPage(_base.TaskPanelPage):
             lines.append('<p style="color:#a05a00"><b>%s</b></p>' % _html(self.notice))
         if self.messages:
             lines.extend(
-                '<p style="color:#c00000">&#9888; %s</p>' % _html(m)
-                for m in self.messages
+                '<p style="color:#c00000">&#9888; %s</p>' % _html(m) for m in self.messages
             )
         else:
             hint = operations.hint(self.spec, inputs)
@@ -415,7 +410,9 @@ class OperationPage(_base.TaskPanelPage):
         if not rows:
             label.setText("")
         elif not computed:
-            label.setText("<i>%s</i>" % _html(translate("IsoCAM", "Certificate: not computed yet.")))
+            label.setText(
+                "<i>%s</i>" % _html(translate("IsoCAM", "Certificate: not computed yet."))
+            )
         else:
             label.setText(
                 "<b>%s</b><table>%s</table>"

@@ -102,8 +102,7 @@ class Guard {
     std::transform(w.begin(), w.end(), w.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     const std::size_t k = w.find_first_not_of("+-");
-    if (k != std::string::npos &&
-        (w.compare(k, 3, "nan") == 0 || w.compare(k, 3, "inf") == 0))
+    if (k != std::string::npos && (w.compare(k, 3, "nan") == 0 || w.compare(k, 3, "inf") == 0))
       fail(i, "a number is not finite ('" + word(i) + "')");
   }
 
@@ -222,11 +221,21 @@ class Guard {
     const long kind = integer("a curve type");
     const long frame = dim == 3 ? 12 : 6;  // P, N, X, Y (3D) or P, X, Y (2D)
     switch (kind) {
-      case 1: reals(2 * dim, "a line coordinate"); break;
-      case 2: reals(frame + 1, "a circle coordinate"); break;
-      case 3: reals(frame + 2, "an ellipse coordinate"); break;
-      case 4: reals(frame + 1, "a parabola coordinate"); break;
-      case 5: reals(frame + 2, "a hyperbola coordinate"); break;
+      case 1:
+        reals(2 * dim, "a line coordinate");
+        break;
+      case 2:
+        reals(frame + 1, "a circle coordinate");
+        break;
+      case 3:
+        reals(frame + 2, "an ellipse coordinate");
+        break;
+      case 4:
+        reals(frame + 1, "a parabola coordinate");
+        break;
+      case 5:
+        reals(frame + 2, "a hyperbola coordinate");
+        break;
       case 6: {
         const bool rational = flag("a rational flag");
         const long d = degree();
@@ -261,11 +270,21 @@ class Guard {
     const std::size_t at = pos_;
     const long kind = integer("a surface type");
     switch (kind) {
-      case 1: reals(12, "a plane coordinate"); break;
-      case 2: reals(13, "a cylinder coordinate"); break;
-      case 3: reals(14, "a cone coordinate"); break;
-      case 4: reals(13, "a sphere coordinate"); break;
-      case 5: reals(14, "a torus coordinate"); break;
+      case 1:
+        reals(12, "a plane coordinate");
+        break;
+      case 2:
+        reals(13, "a cylinder coordinate");
+        break;
+      case 3:
+        reals(14, "a cone coordinate");
+        break;
+      case 4:
+        reals(13, "a sphere coordinate");
+        break;
+      case 5:
+        reals(14, "a torus coordinate");
+        break;
       case 6:
         reals(3, "an extrusion direction");
         curve(3);
@@ -347,7 +366,8 @@ class Guard {
  public:
   void find_version() {
     const std::size_t k = text_.find("CASCADE Topology V");
-    if (k != std::string::npos && k + 18 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[k + 18])))
+    if (k != std::string::npos && k + 18 < text_.size() &&
+        std::isdigit(static_cast<unsigned char>(text_[k + 18])))
       version_ = text_[k + 18] - '0';
   }
 

@@ -1,14 +1,13 @@
 #include "isocam/brep_io.h"
 
-#include <fstream>
-#include <sstream>
-
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <fstream>
+#include <sstream>
 
 #include "brep_guard.h"
 #include "isocam/errors.h"
@@ -62,10 +61,13 @@ TopoDS_Shape read_brep(const std::string& text) {
                           std::to_string(buffer.offset()) + " of " + std::to_string(text.size()) +
                           ")");
   } catch (const BoundedBuffer::ReadPastEnd&) {
-    throw InvalidArgument("brep: the text ends before the shapes it describes (the reader ran past "
-                          "its last byte, " + std::to_string(text.size()) + ")");
+    throw InvalidArgument(
+        "brep: the text ends before the shapes it describes (the reader ran past "
+        "its last byte, " +
+        std::to_string(text.size()) + ")");
   } catch (const Standard_Failure& e) {
-    throw InvalidArgument(std::string("brep: unreadable B-rep text (") + e.GetMessageString() + ")");
+    throw InvalidArgument(std::string("brep: unreadable B-rep text (") + e.GetMessageString() +
+                          ")");
   }
   if (shape.IsNull()) throw InvalidArgument("brep: unreadable B-rep text (no shape in it)");
   return shape;

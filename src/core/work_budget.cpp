@@ -17,8 +17,8 @@ void check_tolerance_ratio(const std::string& name, double tol, double extent) {
   if (extent / tol > kMaxExtentToTolerance) {
     std::ostringstream m;
     m << name << " = " << tol << " mm is too fine for a model that extends " << extent
-      << " mm (from the origin): the ratio " << extent / tol << " exceeds "
-      << kMaxExtentToTolerance << "; coarsen " << name << " or move/scale the model";
+      << " mm (from the origin): the ratio " << extent / tol << " exceeds " << kMaxExtentToTolerance
+      << "; coarsen " << name << " or move/scale the model";
     throw InvalidArgument(m.str());
   }
 }

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <Standard_Failure.hxx>
 #include <algorithm>
 #include <cstring>
 #include <memory>
@@ -12,8 +13,6 @@
 #include <set>
 #include <string>
 #include <vector>
-
-#include <Standard_Failure.hxx>
 
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -196,7 +195,8 @@ PYBIND11_MODULE(isocam_core, m) {
       .def(py::init<>())
       .def("cancel", &Progress::request_cancel)
       .def_property_readonly("fraction", [](const Progress& p) { return p.fraction.load(); })
-      .def_property_readonly("cancelled", [](const Progress& p) { return p.cancel_requested.load(); });
+      .def_property_readonly("cancelled",
+                             [](const Progress& p) { return p.cancel_requested.load(); });
 
   py::class_<IsoMetrics>(m, "IsoMetrics")
       .def_readonly("delta", &IsoMetrics::delta)
@@ -218,7 +218,8 @@ PYBIND11_MODULE(isocam_core, m) {
 
   py::class_<SubIsocurve>(m, "SubIsocurve")
       .def_readonly("face", &SubIsocurve::face)
-      .def_property_readonly("direction", [](const SubIsocurve& c) { return direction_name(c.dir); })
+      .def_property_readonly("direction",
+                             [](const SubIsocurve& c) { return direction_name(c.dir); })
       .def_readonly("level", &SubIsocurve::level)
       .def_readonly("t0", &SubIsocurve::t0)
       .def_readonly("t1", &SubIsocurve::t1);

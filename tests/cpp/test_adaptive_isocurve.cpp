@@ -104,10 +104,12 @@ TEST_P(AdaptiveOnFace, CoversTheFaceWithinDeltaAndNeverGouges) {
 
   // Definition 1 on an independent dense sampling of the face.
   test::SegmentIndex contacts(delta);
-  for (const auto& curve : test::contact_curves(face, c.face, res, delta / 20)) contacts.add_polyline(curve);
+  for (const auto& curve : test::contact_curves(face, c.face, res, delta / 20))
+    contacts.add_polyline(curve);
   const double gap = test::coverage_gap(face, contacts, 150, 2 * delta);
   std::cout << c.name << ": delta " << delta << " coverage gap " << gap << " sub-isocurves "
-            << res.metrics.sub_isocurves << " cutting length " << res.metrics.cutting_length << "\n";
+            << res.metrics.sub_isocurves << " cutting length " << res.metrics.cutting_length
+            << "\n";
   EXPECT_LT(gap, res.metrics.delta_max);
 
   const test::FaceCloud cloud(face, 600);
@@ -132,14 +134,15 @@ TopoDS_Shape creased() { return test::figure2_ruled_surface(true); }
 
 INSTANTIATE_TEST_SUITE_P(
     Faces, AdaptiveOnFace,
-    ::testing::Values(FaceCase{"MAT_bicubic_6160_patches", mat, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
-                      FaceCase{"wing_degree8_ruled", wing, 0, 3.0, 0.02, 0.01, IsoDirection::V},
-                      FaceCase{"sphere_rational_with_poles", sphere, 0, 3.0, 0.02, 0.01, IsoDirection::U},
-                      FaceCase{"sphere_latitudes", sphere, 0, 3.0, 0.02, 0.0, IsoDirection::V},
-                      FaceCase{"cylinder_rational", cylinder, 0, 2.0, 0.01, 0.0, IsoDirection::Auto},
-                      FaceCase{"torus_rational", torus, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
-                      FaceCase{"figure2_ruled", figure2, 0, 5.0, 0.1, 0.01, IsoDirection::V},
-                      FaceCase{"convex_C0_creases", creased, 0, 5.0, 0.1, 0.01, IsoDirection::V}),
+    ::testing::Values(
+        FaceCase{"MAT_bicubic_6160_patches", mat, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
+        FaceCase{"wing_degree8_ruled", wing, 0, 3.0, 0.02, 0.01, IsoDirection::V},
+        FaceCase{"sphere_rational_with_poles", sphere, 0, 3.0, 0.02, 0.01, IsoDirection::U},
+        FaceCase{"sphere_latitudes", sphere, 0, 3.0, 0.02, 0.0, IsoDirection::V},
+        FaceCase{"cylinder_rational", cylinder, 0, 2.0, 0.01, 0.0, IsoDirection::Auto},
+        FaceCase{"torus_rational", torus, 0, 3.0, 0.05, 0.01, IsoDirection::Auto},
+        FaceCase{"figure2_ruled", figure2, 0, 5.0, 0.1, 0.01, IsoDirection::V},
+        FaceCase{"convex_C0_creases", creased, 0, 5.0, 0.1, 0.01, IsoDirection::V}),
     [](const ::testing::TestParamInfo<FaceCase>& tp) { return std::string(tp.param.name); });
 
 TEST(AdaptiveIsocurve, ShorterThanUniformIsocurvesOnFigure2) {
@@ -183,8 +186,8 @@ TEST(AdaptiveIsocurve, ScallopMeasuredUnderTheRequestedHeightOnConvexGround) {
     const IsoResult res = adaptive_isocurve(sphere, {0}, p);
     // Where a 3-axis tool reaches from above (not under the equator).
     const test::ModelCloud reach(face, 200);
-    const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 150, 0.02, 1.0,
-                                                       &reach);
+    const test::ScallopCheck s =
+        test::measure_scallop(face, res.path, p.ball_radius, 150, 0.02, 1.0, &reach);
     std::cout << (k ? "curvature" : "flat") << " bound: measured scallop " << s.max << " over "
               << s.samples << " samples (" << s.uncovered << " uncovered), certified "
               << res.metrics.guaranteed_scallop << ", cutting length " << res.metrics.cutting_length
@@ -300,7 +303,8 @@ class AdaptiveOnTrimmedFace : public ::testing::TestWithParam<TrimCase> {};
 // The face as the core finished it: reversed where it reports an open face
 // turned down (finished from its upper side).
 TopoDS_Face finished_side(const TopoDS_Face& face, int index, const IsoResult& res) {
-  const std::string said = "(Face" + std::to_string(index + 1) + ") is an open face whose orientation";
+  const std::string said =
+      "(Face" + std::to_string(index + 1) + ") is an open face whose orientation";
   for (const std::string& w : res.warnings)
     if (w.find(said) != std::string::npos) return TopoDS::Face(face.Reversed());
   return face;

@@ -58,7 +58,8 @@ TEST(Bernstein, ProductSumElevationRestrictionMatchPointwise) {
 
 TEST(Bernstein, PowerBasisConversionIsExact) {
   const Bernstein f = from_power({1.0, -3.0, 0.5, 2.0});
-  for (double t : {0.0, 0.3, 0.77, 1.0}) EXPECT_NEAR(f.eval(t), 1 - 3 * t + 0.5 * t * t + 2 * t * t * t, 1e-14);
+  for (double t : {0.0, 0.3, 0.77, 1.0})
+    EXPECT_NEAR(f.eval(t), 1 - 3 * t + 0.5 * t * t + 2 * t * t * t, 1e-14);
 }
 
 TEST(Bernstein, FindsEveryCrossingOfManyRoots) {
@@ -103,7 +104,8 @@ TEST(Bernstein, MaxRatioMatchesDenseSampling) {
     for (double& v : dc) v = 0.5 + std::uniform_real_distribution<double>(0, 1)(rng);
     const Bernstein den(dc);
     double sampled = -1e300;
-    for (int i = 0; i <= 20000; ++i) sampled = std::max(sampled, num.eval(i / 20000.0) / den.eval(i / 20000.0));
+    for (int i = 0; i <= 20000; ++i)
+      sampled = std::max(sampled, num.eval(i / 20000.0) / den.eval(i / 20000.0));
     const double bound = max_ratio(num, den, 1e-9);
     EXPECT_GE(bound, sampled - 1e-12);
     EXPECT_LE(bound, sampled + 1e-6 * (1 + std::abs(sampled)));

@@ -12,13 +12,12 @@
 // 2 x 12 (more control points along one direction than a bicubic's).
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <random>
-#include <vector>
-
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepLProp_SLProps.hxx>
 #include <BRepTools.hxx>
+#include <cmath>
+#include <random>
+#include <vector>
 
 #include "geometry/clearance.h"
 #include "geometry/patch_grid.h"
@@ -55,7 +54,8 @@ TEST(ClearanceModel, AgreesWithTheTrimmedModelNearBall) {
   const double margin = 0.01;
   int checked = 0, wrong_clear = 0, wrong_blocked = 0;
   for (int k = 0; k < 600; ++k) {
-    const std::size_t f = static_cast<std::size_t>(unit(rng) * static_cast<double>(faces.size())) % faces.size();
+    const std::size_t f =
+        static_cast<std::size_t>(unit(rng) * static_cast<double>(faces.size())) % faces.size();
     double u0, u1, v0, v1;
     BRepTools::UVBounds(faces[f], u0, u1, v0, v1);
     const double u = u0 + (u1 - u0) * unit(rng), v = v0 + (v1 - v0) * unit(rng);
@@ -83,12 +83,12 @@ TEST(ClearanceModel, AgreesWithTheTrimmedModelNearBall) {
       // in_face's 1e-6: the witness is a grid point of the face, on it to
       // rounding of the grid evaluation; the diagnostic cloud's 0.02 mm
       // spacing is finer than the 0.01 mm margin's scale needs for a hint.
-      ADD_FAILURE() << "blocked at " << d - margin << ": point (" << c.X() << ", " << c.Y() << ", "
-                    << c.Z() << ") off face " << f << " by " << off << "; reference distance " << d
-                    << ", witness on face " << wf << " at (" << w.u << ", " << w.v << ") distance "
-                    << c.Distance(wp) << " in face " << test::in_face(faces[wf], wp, 1e-6)
-                    << " cloud there "
-                    << test::ModelCloud(std::vector<TopoDS_Face>{faces[wf]}, 0.02, true).distance(c);
+      ADD_FAILURE()
+          << "blocked at " << d - margin << ": point (" << c.X() << ", " << c.Y() << ", " << c.Z()
+          << ") off face " << f << " by " << off << "; reference distance " << d
+          << ", witness on face " << wf << " at (" << w.u << ", " << w.v << ") distance "
+          << c.Distance(wp) << " in face " << test::in_face(faces[wf], wp, 1e-6) << " cloud there "
+          << test::ModelCloud(std::vector<TopoDS_Face>{faces[wf]}, 0.02, true).distance(c);
     }
     if (model.clear(c, d + margin)) ++wrong_clear;
   }

@@ -72,8 +72,8 @@ Checked check_face(const TopoDS_Shape& shape, int face_index, const IsoResult& r
                              2 * delta);
   // Where a 3-axis tool reaches from above (not under the equator).
   const test::ModelCloud reach(face, 200);
-  const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0,
-                                                     &reach);
+  const test::ScallopCheck s =
+      test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0, &reach);
   c.scallop = s.max;
   c.uncovered = s.uncovered;
   const test::FaceCloud cloud(face, 400);
@@ -179,7 +179,8 @@ TEST(ConstantScallop, TrimmedPlateIsClippedToItsWiresAndCovered) {
   bool have = false;
   for (std::size_t i = 0; i < res.path.size(); ++i) {
     const bool feed = res.path.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed);
-    GeomAPI_ProjectPointOnSurf proj(gp_Pnt(res.path.x[i], res.path.y[i], res.path.z[i] + p.ball_radius), s);
+    GeomAPI_ProjectPointOnSurf proj(
+        gp_Pnt(res.path.x[i], res.path.y[i], res.path.z[i] + p.ball_radius), s);
     ASSERT_GT(proj.NbPoints(), 0);
     const gp_Pnt foot = proj.NearestPoint();
     if (feed) {
@@ -223,7 +224,8 @@ TEST(ConstantScallop, VanishingStripWidthEndsInAWarning) {
   model.add(grid, &trim);
   model.build();
   const StripWidth nothing = [](const StripFrame& f) { return f.p.X() > 5 ? 1e-12 : 1.0; };
-  const ScallopPieces out = constant_scallop_pieces({{0, &grid, &trim}}, p, model, nullptr, nothing);
+  const ScallopPieces out =
+      constant_scallop_pieces({{0, &grid, &trim}}, p, model, nullptr, nothing);
   ASSERT_EQ(out.warnings.size(), 1u);
   EXPECT_NE(out.warnings[0].find("minimum"), std::string::npos) << out.warnings[0];
   const double flat = stepover_for_scallop(p.ball_radius, p.scallop_height);

@@ -5,11 +5,10 @@
 // retracting to the safe height.
 #include <gtest/gtest.h>
 
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <algorithm>
 #include <cmath>
 #include <iostream>
-
-#include <BRepPrimAPI_MakeSphere.hxx>
 
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
@@ -64,8 +63,8 @@ TEST(Guarantees, BudgetsAddUpAndHoldOnASphere) {
     EXPECT_GT(m.guaranteed_scallop, 0.8 * c.h);
     // Where a 3-axis tool reaches from above (not under the equator).
     const test::ModelCloud reach(face, 200);
-    const test::ScallopCheck s = test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0,
-                                                       &reach);
+    const test::ScallopCheck s =
+        test::measure_scallop(face, res.path, p.ball_radius, 120, 0.02, 1.0, &reach);
     const double closest = test::min_centre_distance(cloud, res.path, p.ball_radius, 3000);
     std::cout << "h " << c.h << " overcut " << c.overcut << " resolution " << c.resolution
               << (c.bound == IsoScallopBound::Flat ? " flat" : " curvature") << ": chord "
@@ -135,7 +134,9 @@ TEST(Guarantees, ChordOverrideCountsAndMustFit) {
   EXPECT_NE(message(q).find("rapid_rate"), std::string::npos);
 }
 
-gp_Pnt centre(const Toolpath& t, std::size_t i, double r) { return gp_Pnt(t.x[i], t.y[i], t.z[i] + r); }
+gp_Pnt centre(const Toolpath& t, std::size_t i, double r) {
+  return gp_Pnt(t.x[i], t.y[i], t.z[i] + r);
+}
 
 // The smallest distance from the ball centre moving from a to b to the
 // model, sampled every `step` mm.
@@ -168,9 +169,9 @@ class AirMoves : public ::testing::TestWithParam<AirCase> {};
 // Every rapid keeps the ball r + air_clearance from the whole model, except
 // a lift straight up from a cutting position, which keeps the cutting
 // clearance (r - overcut) as the fed entries do; every entry is fed only
-// from near the surface (above it, or out along the normal on a wall); lifts stay below the safe height where a lower hop
-// is clear, and the air time is a small part of what retracting to the safe
-// height would take.
+// from near the surface (above it, or out along the normal on a wall); lifts stay below the safe
+// height where a lower hop is clear, and the air time is a small part of what retracting to the
+// safe height would take.
 TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
   const AirCase& c = GetParam();
   const TopoDS_Shape shape = c.shape();
@@ -207,7 +208,8 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
       continue;
     }
     if (kind != MoveKind::Rapid) continue;
-    const bool lift = vertical && b.Z() > a.Z() && t.kind[i - 1] != static_cast<std::uint8_t>(MoveKind::Rapid);
+    const bool lift =
+        vertical && b.Z() > a.Z() && t.kind[i - 1] != static_cast<std::uint8_t>(MoveKind::Rapid);
     if (lift) {
       worst_lift = std::min(worst_lift, segment_clearance(model, a, b, 0.05));
       if (i + 1 < t.size()) {  // a hop, not the final retract
@@ -215,13 +217,17 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
         if (b.Z() < safe_c - 1e-9) ++low_lifts;
         // The hop that retracting would make: up to the safe height, across,
         // and the entry fed all the way down.
-        const gp_Pnt& entry = centre(t, [&] {
-          std::size_t j = i + 1;
-          while (j < t.size() && t.kind[j] == static_cast<std::uint8_t>(MoveKind::Rapid)) ++j;
-          return j;
-        }(), r);
+        const gp_Pnt& entry = centre(
+            t,
+            [&] {
+              std::size_t j = i + 1;
+              while (j < t.size() && t.kind[j] == static_cast<std::uint8_t>(MoveKind::Rapid)) ++j;
+              return j;
+            }(),
+            r);
         const double across = std::hypot(entry.X() - a.X(), entry.Y() - a.Y());
-        safe_minutes += (safe_c - a.Z() + across) / p.rapid_rate + (safe_c - entry.Z()) / p.plunge_rate;
+        safe_minutes +=
+            (safe_c - a.Z() + across) / p.rapid_rate + (safe_c - entry.Z()) / p.plunge_rate;
       }
     } else {
       worst_rapid = std::min(worst_rapid, segment_clearance(model, a, b, 0.25));
@@ -230,7 +236,8 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
   for (std::size_t i = 1; i < t.size(); ++i) {
     const double len = centre(t, i - 1, r).Distance(centre(t, i, r));
     if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Rapid)) air_minutes += len / p.rapid_rate;
-    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Plunge)) air_minutes += len / p.plunge_rate;
+    if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Plunge))
+      air_minutes += len / p.plunge_rate;
     if (t.kind[i] == static_cast<std::uint8_t>(MoveKind::Ramp)) air_minutes += len / p.feed_rate;
   }
   std::cout << c.name << ": " << lifts << " hops (" << low_lifts << " below the safe height), "
@@ -257,7 +264,8 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
               60 * ((len.feed + len.ramp) / p.feed_rate + len.plunge / p.plunge_rate +
                     len.rapid / p.rapid_rate),
               1e-9 * res.metrics.machine_time);
-  EXPECT_NEAR(res.metrics.cutting_time, 60 * len.feed / p.feed_rate, 1e-9 * res.metrics.cutting_time);
+  EXPECT_NEAR(res.metrics.cutting_time, 60 * len.feed / p.feed_rate,
+              1e-9 * res.metrics.cutting_time);
 }
 
 INSTANTIATE_TEST_SUITE_P(

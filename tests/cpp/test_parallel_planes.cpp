@@ -346,8 +346,9 @@ TEST_P(PlanesOnTrimmedFace, NoContactPointOutsideTheFace) {
   }
   // Where a 3-axis tool reaches (under Ball's sphere it does not), decided
   // here against the whole model.
-  const double gap = test::reachable_coverage_gap(face, shape, test::ModelCloud(faces_of(shape), c.r / 8, true),
-                                                  c.r, 0.002, contacts, 200, 2 * res.metrics.delta);
+  const double gap =
+      test::reachable_coverage_gap(face, shape, test::ModelCloud(faces_of(shape), c.r / 8, true),
+                                   c.r, 0.002, contacts, 200, 2 * res.metrics.delta);
   std::cout << c.name << ": " << feet.size() << " contact points, " << planes << " planes, "
             << res.metrics.sub_isocurves << " pieces, coverage gap " << gap << " (delta "
             << res.metrics.delta << ")\n";

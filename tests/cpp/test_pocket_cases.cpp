@@ -141,7 +141,8 @@ TEST(PocketCases, FaceBrepPlanarWithTwoHoles) {
   fp.depths = {z + 2, z};
   const auto t0 = std::chrono::steady_clock::now();
   const PocketResult res = pocket_faces(shape, {0}, fp);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_TRUE(res.metrics.messages.empty()) << res.metrics.messages.front();
   EXPECT_EQ(res.metrics.levels, 2);
   const std::vector<Loop> truth = face_region(faces[0], tol / 50);

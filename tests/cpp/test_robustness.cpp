@@ -3,29 +3,27 @@
 #include <gtest/gtest.h>
 #include <pthread.h>
 
-#include <algorithm>
-#include <functional>
-#include <string>
-
-#include <BRepMesh_IncrementalMesh.hxx>
-#include <BRepPrimAPI_MakeSphere.hxx>
-#include <BRepTools.hxx>
-#include <fstream>
-#include <sstream>
-
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
-#include <gp_Pln.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <gp_Pln.hxx>
+#include <sstream>
+#include <string>
 
-#include "isocam/adaptive_isocurve.h"
 #include "geometry/patch_grid.h"
+#include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
 #include "isocam/errors.h"
-#include "support/models.h"
 #include "isocam/pocketing.h"
+#include "support/models.h"
 #include "support/pocket_models.h"
 
 namespace isocam {
@@ -126,7 +124,8 @@ TEST(Robustness, GuardedReaderRejectsHugeCounts) {
 TEST(Robustness, GuardedReaderRejectsTruncatedText) {
   const std::string full = slurp("MAT.brep");
   for (double f : {0.1, 0.5, 0.9}) {
-    const std::string e = read_error(full.substr(0, static_cast<std::size_t>(f * static_cast<double>(full.size()))));
+    const std::string e =
+        read_error(full.substr(0, static_cast<std::size_t>(f * static_cast<double>(full.size()))));
     EXPECT_NE(e.find("at byte"), std::string::npos) << f << ": " << e;
   }
 }
@@ -146,8 +145,9 @@ TEST(Robustness, GuardedReaderRejectsNonFiniteNumbersAndBadWeights) {
     EXPECT_NE(e.find("at byte " + std::to_string(num)), std::string::npos) << e;
   }
   // A rational Bezier curve with weights w.
-  const std::string head = "DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\n"
-                           "Locations 0\nCurve2ds 0\nCurves 1\n6 1 1 0 0 0 ";
+  const std::string head =
+      "DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\n"
+      "Locations 0\nCurve2ds 0\nCurves 1\n6 1 1 0 0 0 ";
   for (const char* w : {"-1", "0", "nan"}) {
     const std::string e = read_error(head + w + " 1 0 0 1\nPolygon3D 0\n");
     EXPECT_NE(e.find(std::string("brep: ")), std::string::npos) << w;
@@ -239,8 +239,8 @@ TEST(Robustness, WorkBudgetIsCheckedBeforeTheWork) {
 }
 
 TEST(Robustness, ArgumentsOutsideTheirDomainAreRefused) {
-  EXPECT_TRUE(has(invalid_argument([] { stepover_for_scallop(std::nan(""), 0.1); }),
-                  "ball_radius = nan"));
+  EXPECT_TRUE(
+      has(invalid_argument([] { stepover_for_scallop(std::nan(""), 0.1); }), "ball_radius = nan"));
   EXPECT_TRUE(has(invalid_argument([] { stepover_for_scallop(3, 4); }), "scallop_height = 4"));
   EXPECT_TRUE(has(invalid_argument([] { scallop_for_stepover(3, 7); }), "delta = 7"));
   EXPECT_TRUE(has(invalid_argument([] { scallop_for_stepover(3, -1); }), "delta = -1"));
@@ -257,9 +257,8 @@ TEST(Robustness, ArgumentsOutsideTheirDomainAreRefused) {
   EXPECT_TRUE(has(invalid_argument([&] { adaptive_isocurve(vertex, {0}, p); }), "no faces"));
   PocketParams pp;
   pp.tool_radius = 1e300;
-  EXPECT_TRUE(has(invalid_argument([&] {
-                    spiral_pocket(make_region(test::rect(0, 0, 10, 10), {}), {0.0}, pp);
-                  }),
+  EXPECT_TRUE(has(invalid_argument(
+                      [&] { spiral_pocket(make_region(test::rect(0, 0, 10, 10), {}), {0.0}, pp); }),
                   "tool_radius = 1e+300"));
 }
 
@@ -318,8 +317,9 @@ TEST(Robustness, OpenFaceTurnedDownIsReported) {
     IsoParams p = iso(3, h);
     const IsoResult r = adaptive_isocurve(s, {0}, p);
     for (const std::string& w : r.warnings)
-      if (has(w, "Face1) is an open face whose orientation puts the material above it: "
-                 "finished from its upper side"))
+      if (has(w,
+              "Face1) is an open face whose orientation puts the material above it: "
+              "finished from its upper side"))
         return true;
     return false;
   };

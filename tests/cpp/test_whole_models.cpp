@@ -66,15 +66,15 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
             << " mm, " << res.metrics.sub_isocurves << " sub-isocurves, " << res.metrics.retracts
             << " retracts; min clearance " << w.min_clearance << " (r " << c.r << "), max gap "
             << w.max_gap << " (delta " << delta << ", largest local " << res.metrics.delta_max
-            << "), unreachable samples " << w.unreachable << "/"
-            << w.samples << ", unreachable length " << res.metrics.unreachable_length
-            << " (from above " << res.metrics.unreachable_from_above_length << ")\n";
+            << "), unreachable samples " << w.unreachable << "/" << w.samples
+            << ", unreachable length " << res.metrics.unreachable_length << " (from above "
+            << res.metrics.unreachable_from_above_length << ")\n";
   // No gouge against any face of the model, links included (they are feed
   // moves too).
   EXPECT_GE(w.min_clearance, c.r - res.metrics.chord_tolerance - p.gouge_tolerance - 1e-4)
       << "ball centre (" << w.closest_centre.X() << ", " << w.closest_centre.Y() << ", "
-      << w.closest_centre.Z() << ") from face " << w.closest_face << " at ("
-      << w.closest_point.X() << ", " << w.closest_point.Y() << ", " << w.closest_point.Z() << ")";
+      << w.closest_centre.Z() << ") from face " << w.closest_face << " at (" << w.closest_point.X()
+      << ", " << w.closest_point.Y() << ", " << w.closest_point.Z() << ")";
   // Definition 1 on every sample the ball can touch, and the scallop
   // guarantee the curvature-aware bound gives.
   for (std::size_t k = 0; k < picked.size(); ++k) {
@@ -83,7 +83,8 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
     if (asserted) {
       EXPECT_LE(w.face_gap[k], res.metrics.delta_max) << "face " << picked[k];
     } else {
-      std::cout << "    face " << picked[k] << ": largest gap " << w.face_gap[k] << " (not asserted)\n";
+      std::cout << "    face " << picked[k] << ": largest gap " << w.face_gap[k]
+                << " (not asserted)\n";
     }
   }
   EXPECT_LE(res.metrics.guaranteed_scallop, c.h * (1 + 1e-6));
@@ -92,18 +93,24 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
   EXPECT_LT(res.metrics.retracts, res.metrics.sub_isocurves);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Models, WholeModel,
-    ::testing::Values(WholeCase{"house_on_the_hill", test::house_on_the_hill,
-                                test::house_on_the_hill_picked, 3.0, 0.05, 120, {}},
-                      // Faces 27 and 31: walls whose tops lean out by
-                      // microns, so that the reach from above at their feet
-                      // is ragged; the thin reachable parts between passes cut
-                      // where it is not are left (gaps 0.95 and 0.56 mm
-                      // measured; issue 15's known gap, see the README).
-                      WholeCase{"shell1_99_faces", shell1, all_faces, 2.0, 0.02, 30,
-                                all_but(99, {27, 31})}),
-    [](const ::testing::TestParamInfo<WholeCase>& tp) { return std::string(tp.param.name); });
+INSTANTIATE_TEST_SUITE_P(Models, WholeModel,
+                         ::testing::Values(WholeCase{"house_on_the_hill",
+                                                     test::house_on_the_hill,
+                                                     test::house_on_the_hill_picked,
+                                                     3.0,
+                                                     0.05,
+                                                     120,
+                                                     {}},
+                                           // Faces 27 and 31: walls whose tops lean out by
+                                           // microns, so that the reach from above at their feet
+                                           // is ragged; the thin reachable parts between passes cut
+                                           // where it is not are left (gaps 0.95 and 0.56 mm
+                                           // measured; issue 15's known gap, see the README).
+                                           WholeCase{"shell1_99_faces", shell1, all_faces, 2.0,
+                                                     0.02, 30, all_but(99, {27, 31})}),
+                         [](const ::testing::TestParamInfo<WholeCase>& tp) {
+                           return std::string(tp.param.name);
+                         });
 
 // The house has concave corners (walls on the hill): there the ball cannot
 // touch, the check finds such samples and the core reports the length of
@@ -118,9 +125,9 @@ TEST(WholeModelHouse, ConcaveCornersAreFoundAndReported) {
   p.protect_unpicked_faces = true;
   p.safe_z = 200;
   const IsoResult res = adaptive_isocurve(shape, picked, p);
-  const test::WholeModelCheck w = test::check_whole_model(shape, picked, res.path, p.ball_radius,
-                                                          res.metrics.delta / 4, 60, 0.002,
-                                                          4 * res.metrics.delta);
+  const test::WholeModelCheck w =
+      test::check_whole_model(shape, picked, res.path, p.ball_radius, res.metrics.delta / 4, 60,
+                              0.002, 4 * res.metrics.delta);
   EXPECT_GT(w.unreachable, 0);
   EXPECT_GT(res.metrics.unreachable_length, 0.0);
 }

@@ -64,9 +64,7 @@ def main():
     setup.pocket.Tolerance = 0.02
     setup.rough.StockToLeave = 0.3
     ball = scripting.make_ball_end_tool_controller(setup.job, 6.0)
-    top = next(
-        i for i, f in enumerate(setup.clone.Shape.Faces) if abs(f.BoundBox.ZMin - 20) < 1e-6
-    )
+    top = next(i for i, f in enumerate(setup.clone.Shape.Faces) if abs(f.BoundBox.ZMin - 20) < 1e-6)
     iso = adaptive_isocurve.Create(
         adaptive_isocurve.OP_NAME, parentJob=setup.job, toolController=ball
     )
@@ -83,7 +81,9 @@ def main():
     record = {
         "freecad": ".".join(FreeCAD.Version()[:3]),
         "isocam": _isocam_commit(),
-        "ops": {op.Name: {"proxy": type(op.Proxy).__name__, "properties": _record(op)} for op in ops},
+        "ops": {
+            op.Name: {"proxy": type(op.Proxy).__name__, "properties": _record(op)} for op in ops
+        },
     }
     with open(os.path.join(out_dir, NAME + ".json"), "w") as out:
         json.dump(record, out, indent=1, sort_keys=True)

@@ -18,7 +18,6 @@ import fc_test_support as support
 from freecad_ext import scripting
 
 
-
 def stated_bounds(op):
     """(most material left, deepest overcut) in mm that `op` states its posted
     path keeps: the two numbers every simulation test asserts. They are the
@@ -86,16 +85,26 @@ def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=(), edit=No
         out.write("T%d P%d D%.4f Z+0.0000 ;\n" % (tc.ToolNumber, tc.ToolNumber, tool_diameter))
     cmd = [
         sim,
-        "--brep", brep,
-        "--faces", ",".join(str(f) for f in picked_faces(op)),
-        "--radius", repr(tool_diameter / 2),
-        "--gcode", ngc,
-        "--rs274", rs274,
-        "--tool-table", table,
-        "--spacing", repr(spacing),
-        "--scallop", repr(op.ScallopHeight.Value),
-        "--map", os.path.join(tmp, "residual.txt"),
-        "--threads", "2",
+        "--brep",
+        brep,
+        "--faces",
+        ",".join(str(f) for f in picked_faces(op)),
+        "--radius",
+        repr(tool_diameter / 2),
+        "--gcode",
+        ngc,
+        "--rs274",
+        rs274,
+        "--tool-table",
+        table,
+        "--spacing",
+        repr(spacing),
+        "--scallop",
+        repr(op.ScallopHeight.Value),
+        "--map",
+        os.path.join(tmp, "residual.txt"),
+        "--threads",
+        "2",
     ] + list(extra)
     proc = subprocess.run(cmd, capture_output=True, text=True)
     testcase.assertEqual(proc.returncode, 0, proc.stderr)
@@ -154,9 +163,7 @@ def check_measured(testcase, name, op, result, min_reachable=0.5):
     fed = op.CuttingLength.Value + op.PlungeLength.Value
     # The sim reads the posted G-code (3 decimals: each move's length off by
     # up to ~1e-3 mm) and its arcs as chords: 1e-3 relative plus 1 mm.
-    testcase.assertAlmostEqual(
-        result["lengths"]["feed"], fed, delta=1e-3 * fed + 1
-    )
+    testcase.assertAlmostEqual(result["lengths"]["feed"], fed, delta=1e-3 * fed + 1)
 
 
 def assert_left_within_stated(testcase, name, op, result):

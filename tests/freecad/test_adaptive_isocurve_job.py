@@ -36,7 +36,7 @@ def expected_core_result(op, clone):
     params.scallop_height = op.ScallopHeight.Value
     params.chord_tolerance = op.ChordTolerance.Value
     params.overcut_tolerance = op.OvercutTolerance.Value
-    params.posted_resolution = 10.0 ** -op.PostPrecision
+    params.posted_resolution = 10.0**-op.PostPrecision
     params.air_clearance = op.AirClearance.Value
     tc = op.ToolController
     params.feed_rate = tc.HorizFeed.Value * 60 if tc.HorizFeed.Value > 0 else 1200.0
@@ -109,21 +109,15 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         self.assertEqual(op.Retracts, m.retracts)
         self.assertAlmostEqual(op.IsoDistanceTolerance.Value, m.delta, places=9)
         self.assertAlmostEqual(op.MaxIsoDistance.Value, m.max_iso_distance, places=9)
-        self.assertAlmostEqual(
-            op.GuaranteedScallop.Value, m.guaranteed_scallop, places=9
-        )
-        self.assertAlmostEqual(
-            op.GuaranteedOvercut.Value, m.guaranteed_overcut, places=9
-        )
+        self.assertAlmostEqual(op.GuaranteedScallop.Value, m.guaranteed_scallop, places=9)
+        self.assertAlmostEqual(op.GuaranteedOvercut.Value, m.guaranteed_overcut, places=9)
         self.assertAlmostEqual(op.ChordToleranceUsed.Value, m.chord_tolerance, places=9)
         self.assertAlmostEqual(op.CuttingTime, m.cutting_time, places=6)
         self.assertIn(op.DirectionUsed, ("U", "V"))
         # The certificates the op exists for: within the requests (1e-6 and
         # 1e-9 relative: rounding of the doubles they are computed in).
         self.assertLessEqual(op.GuaranteedScallop.Value, SCALLOP * (1 + 1e-6))
-        self.assertLessEqual(
-            op.GuaranteedOvercut.Value, op.OvercutTolerance.Value * (1 + 1e-9)
-        )
+        self.assertLessEqual(op.GuaranteedOvercut.Value, op.OvercutTolerance.Value * (1 + 1e-9))
 
     def test_machine_time_agrees_with_the_posted_commands_and_cycle_time(self):
         """Recomputed here from the op's commands (each G1 at its own F,
@@ -153,9 +147,7 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         lead = 2 * (op.ClearanceHeight.Value - op.SafeHeight.Value) / rapid
         self.assertAlmostEqual(op.MachineTime, core.machine_time + lead, delta=1e-6 * seconds)
         self.assertGreater(op.SubIsocurves, 0)
-        self.assertEqual(
-            op.getPropertyStatus("CuttingLength")[:2], ["ReadOnly", "Output"]
-        )
+        self.assertEqual(op.getPropertyStatus("CuttingLength")[:2], ["ReadOnly", "Output"])
 
     def test_feed_moves_stay_on_the_face_and_reach_its_sides(self):
         # Entry and exit at ClearanceHeight, every feed move within the face's
@@ -215,9 +207,7 @@ class AdaptiveIsocurveJobTest(unittest.TestCase):
         # before the first tool change (no move before G43); 0.20's post
         # command goes to clearance height after the fixture's G54.
         before_m6 = lines[: lines.index("M6 T%d" % n)]
-        moves = [
-            line for line in before_m6 if line.split(" ")[0] in ("G0", "G1", "G00", "G01")
-        ]
+        moves = [line for line in before_m6 if line.split(" ")[0] in ("G0", "G1", "G00", "G01")]
         if compat.version_tuple() >= (1, 0):
             self.assertEqual(moves, [])
         else:
@@ -317,9 +307,7 @@ class SaveReopenTest(unittest.TestCase):
         self.addCleanup(FreeCAD.closeDocument, doc.Name)
         reopened = doc.getObject(name)
         self.assertIsInstance(reopened.Proxy, adaptive_isocurve.ObjectAdaptiveIsocurve)
-        self.assertEqual(
-            reopened.getPropertyStatus("SubIsocurves")[:2], ["ReadOnly", "Output"]
-        )
+        self.assertEqual(reopened.getPropertyStatus("SubIsocurves")[:2], ["ReadOnly", "Output"])
         # As stored in the file, then recomputed from scratch.
         self.assert_same_points(support.path_points(reopened.Path), points, STORED_TOL)
         reopened.touch()

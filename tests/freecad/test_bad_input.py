@@ -18,9 +18,7 @@ class BadInputTest(unittest.TestCase):
     def setUpClass(cls):
         # One valid op, computed once: the bystander every test checks.
         cls.setup = support.JobSetup("IsoBad")
-        cls.flat_tc = scripting.make_tool_controller(
-            cls.setup.job, "endmill.fcstd", 6.0
-        )
+        cls.flat_tc = scripting.make_tool_controller(cls.setup.job, "endmill.fcstd", 6.0)
         cls.good = cls.new_op("Good", cls.setup.ball_tc)
         cls.setup.doc.recompute()
         cls.good_gcode = cls.good.Path.toGCode()

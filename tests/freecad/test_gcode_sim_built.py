@@ -108,14 +108,22 @@ class BuiltModelsTest(unittest.TestCase):
         faces = faces_where(built.clone.Shape, lambda f: f.Surface.TypeId == "Part::GeomSphere")
         op = built.op(faces, 0.01)
         deep = sim_support.measure(
-            self, built.job, op, 6.0, spacing=0.05,
+            self,
+            built.job,
+            op,
+            6.0,
+            spacing=0.05,
             edit=lambda g: sim_support.shift_feeds_z(g, -0.03),
         )
         print(sim_support.describe("Dome 0.03 deep", op, deep))
         self.assertGreater(deep["overcut"]["max"], 0.03)
         self.assertLess(deep["overcut"]["max"], 0.03 + sim_support.stated_bounds(op)[1])
         high = sim_support.measure(
-            self, built.job, op, 6.0, spacing=0.05,
+            self,
+            built.job,
+            op,
+            6.0,
+            spacing=0.05,
             edit=lambda g: sim_support.shift_feeds_z(g, 0.03),
         )
         print(sim_support.describe("Dome 0.03 high", op, high))
@@ -123,9 +131,7 @@ class BuiltModelsTest(unittest.TestCase):
         self.assertLess(high["overcut"]["max"], 0.001)
 
     def test_dome(self):
-        self.run_case(
-            "Dome", dome(), 6.0, 0.01, lambda f: f.Surface.TypeId == "Part::GeomSphere"
-        )
+        self.run_case("Dome", dome(), 6.0, 0.01, lambda f: f.Surface.TypeId == "Part::GeomSphere")
 
     def test_bspline_bump_on_a_saddle(self):
         self.run_case("Bump", bump(), 4.0, 0.01, lambda f: True)

@@ -46,9 +46,7 @@ class MultiFaceJobTest(unittest.TestCase):
     def test_ops_are_valid_on_99_faces(self):
         for op in (self.adaptive, self.uniform, self.some):
             self.assertNotIn("Invalid", op.State, op.getStatusString())
-            self.assertEqual(
-                len(op.DirectionUsed.split(", ")), 5 if op is self.some else 99
-            )
+            self.assertEqual(len(op.DirectionUsed.split(", ")), 5 if op is self.some else 99)
 
     def test_certificate(self):
         for op in (self.adaptive, self.uniform):
@@ -85,9 +83,7 @@ class MultiFaceJobTest(unittest.TestCase):
         res = core.adaptive_isocurve(brep, list(range(5)), params)
         # The op stores the core's doubles: places=6 on lengths of metres is
         # rounding only.
-        self.assertAlmostEqual(
-            self.some.CuttingLength.Value, res.metrics.cutting_length, places=6
-        )
+        self.assertAlmostEqual(self.some.CuttingLength.Value, res.metrics.cutting_length, places=6)
         self.assertAlmostEqual(
             self.some.UnreachableLength.Value, res.metrics.unreachable_length, places=6
         )
@@ -101,9 +97,7 @@ class MultiFaceJobTest(unittest.TestCase):
         self.assertEqual(run.errors, [])
         # The interpreter's motions end with exactly the two ops' moves.
         both = Path.Path(
-            self.adaptive.Path.Commands
-            + self.uniform.Path.Commands
-            + self.some.Path.Commands
+            self.adaptive.Path.Commands + self.uniform.Path.Commands + self.some.Path.Commands
         )
         support.assert_motions_end_with(self, run, both)
 

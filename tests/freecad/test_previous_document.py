@@ -102,9 +102,7 @@ class PreviousDocumentTest(unittest.TestCase):
                 self.assertEqual(op.getGroupOfProperty(name), op_base.OUTPUT_GROUP, name)
                 self.assertEqual(op.getPropertyStatus(name)[:2], ["ReadOnly", "Output"])
         # The pocketing ops kept them in "Result" before.
-        self.assertEqual(
-            self.record["ops"]["SpiralPocket"]["properties"]["Loops"][1], "Result"
-        )
+        self.assertEqual(self.record["ops"]["SpiralPocket"]["properties"]["Loops"][1], "Result")
 
     @unittest.skipIf(
         compat.version_tuple() >= (0, 21),

@@ -27,9 +27,7 @@ FLOOR_Z = 10.0
 
 
 def pocket_model():
-    body = Part.makeBox(120, 80, 20).cut(
-        Part.makeBox(100, 60, 10, FreeCAD.Vector(10, 10, FLOOR_Z))
-    )
+    body = Part.makeBox(120, 80, 20).cut(Part.makeBox(100, 60, 10, FreeCAD.Vector(10, 10, FLOOR_Z)))
     body = body.fuse(Part.makeCylinder(8, 10, FreeCAD.Vector(40, 35, FLOOR_Z)))
     body = body.fuse(Part.makeCylinder(5, 10, FreeCAD.Vector(92, 56, FLOOR_Z)))
     blob = [
@@ -54,9 +52,7 @@ class PocketJob:
         model = self.doc.addObject("Part::Feature", "Model")
         model.Shape = pocket_model()
         self.job = scripting.make_job(model)
-        self.tc = scripting.make_tool_controller(
-            self.job, "endmill.fcstd", TOOL_DIAMETER
-        )
+        self.tc = scripting.make_tool_controller(self.job, "endmill.fcstd", TOOL_DIAMETER)
         self.doc.recompute()
         clone = self.job.Model.Group[0]
         self.clone = clone
@@ -65,8 +61,7 @@ class PocketJob:
             for i, f in enumerate(clone.Shape.Faces)
             # The floor is built at FLOOR_Z exactly; 1e-6 mm is the bounding
             # box's margin (OpenCASCADE grows boxes by the tolerance, 1e-7).
-            if abs(f.BoundBox.ZMin - FLOOR_Z) < 1e-6
-            and abs(f.BoundBox.ZMax - FLOOR_Z) < 1e-6
+            if abs(f.BoundBox.ZMin - FLOOR_Z) < 1e-6 and abs(f.BoundBox.ZMax - FLOOR_Z) < 1e-6
         )
         self.pocket = spiral_pocket.Create(
             spiral_pocket.OP_NAME, parentJob=self.job, toolController=self.tc
@@ -113,9 +108,7 @@ class SpiralPocketJobTest(unittest.TestCase):
 
     def test_pocket_path_is_the_core_path(self):
         op = self.setup.pocket
-        params = pocket_glue.pocket_params(
-            op, self.core, R, TOL, op.ScallopHeight.Value
-        )
+        params = pocket_glue.pocket_params(op, self.core, R, TOL, op.ScallopHeight.Value)
         res = self.core.pocket_faces(
             self.setup.clone.Shape.exportBrepToString(),
             [self.setup.floor_index],
@@ -178,14 +171,10 @@ class SpiralPocketJobTest(unittest.TestCase):
                 continue
             # The flat end mill's disk at the tip: nothing of the model at
             # or above z may come closer than r + StockToLeave to its axis.
-            above = model.common(
-                Part.makeBox(400, 400, 40, FreeCAD.Vector(-150, -150, z + 1e-3))
-            )
+            above = model.common(Part.makeBox(400, 400, 40, FreeCAD.Vector(-150, -150, z + 1e-3)))
             if above.isNull() or not above.Solids:
                 continue
-            axis = Part.LineSegment(
-                FreeCAD.Vector(x, y, z), FreeCAD.Vector(x, y, 60)
-            ).toShape()
+            axis = Part.LineSegment(FreeCAD.Vector(x, y, z), FreeCAD.Vector(x, y, 60)).toShape()
             d = axis.distToShape(above)[0]
             self.assertGreaterEqual(d, R + stl - 2 * TOL, (x, y, z))
             checked += 1
@@ -201,9 +190,7 @@ class SpiralPocketJobTest(unittest.TestCase):
         lines = [line.strip() for line in gcode.splitlines()]
         arcs = sum(1 for line in lines if line.startswith(("G2 ", "G3 ")))
         self.assertGreater(arcs, 0)
-        run = scripting.run_rs274(
-            ngc, {self.setup.tc.ToolNumber: TOOL_DIAMETER}, rs274=rs274
-        )
+        run = scripting.run_rs274(ngc, {self.setup.tc.ToolNumber: TOOL_DIAMETER}, rs274=rs274)
         self.assertEqual(run.returncode, 0, run.errors)
         self.assertEqual(run.errors, [])
         # Every G2/G3 reached the interpreter as an arc.

@@ -33,8 +33,9 @@ def bad_shape(kind):
     if kind == "edge":
         return Part.makeLine(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(10, 0, 0))
     if kind == "wire":
-        return Part.makePolygon([FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(10, 0, 0),
-                                 FreeCAD.Vector(10, 10, 0)])
+        return Part.makePolygon(
+            [FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(10, 0, 0), FreeCAD.Vector(10, 10, 0)]
+        )
     if kind == "empty":
         return Part.Compound([])
     return Part.makePlane(100, 80)  # a face, not a solid
@@ -62,8 +63,11 @@ def main():
     clone = job.Model.Group[0]
     faces = clone.Shape.Faces
     dome = next(i for i, f in enumerate(faces) if f.Surface.__class__.__name__ == "Sphere")
-    top = next(i for i, f in enumerate(faces)
-               if abs(f.BoundBox.ZMin - 10) < 1e-6 and abs(f.BoundBox.ZMax - 10) < 1e-6)
+    top = next(
+        i
+        for i, f in enumerate(faces)
+        if abs(f.BoundBox.ZMin - 10) < 1e-6 and abs(f.BoundBox.ZMax - 10) < 1e-6
+    )
     ops = {}
     ops["AdaptiveIsocurve"] = adaptive_isocurve.Create(parentJob=job, toolController=ball)
     ops["AdaptiveIsocurve"].Base = [(clone, ["Face%d" % (dome + 1)])]
@@ -104,8 +108,11 @@ def main():
         doc.recompute()
         bad = [case["op"]]
         if not invalid(op):
-            return result("WRONG", "%s.%s = %r accepted (%d commands)" % (
-                case["op"], case["property"], case["value"], len(op.Path.Commands)))
+            return result(
+                "WRONG",
+                "%s.%s = %r accepted (%d commands)"
+                % (case["op"], case["property"], case["value"], len(op.Path.Commands)),
+            )
         message = op.getStatusString()
         missing = [w for w in case["expect"] if w not in message]
         if missing:
@@ -131,8 +138,9 @@ def main():
         if again is None:
             return result("WRONG", "%s is missing after reopening" % name)
         if "shape" not in case and name not in bad and invalid(again):
-            return result("WRONG", "%s is in error after reopening: %s" % (
-                name, again.getStatusString()))
+            return result(
+                "WRONG", "%s is in error after reopening: %s" % (name, again.getStatusString())
+            )
     FreeCAD.closeDocument(doc.Name)
     result("OK", "error named as expected; saved and reopened (%d objects)" % len(names))
 

@@ -62,7 +62,9 @@ def run(case):
         return core.adaptive_isocurve(read(a["brep"]), a["faces"], p)
     if call == "pocket_faces":
         p = set_params(core.PocketParams(), a.get("params", {}))
-        return core.pocket_faces(read(a["brep"]), a["faces"], p, a["depths"], a.get("ball_end", False))
+        return core.pocket_faces(
+            read(a["brep"]), a["faces"], p, a["depths"], a.get("ball_end", False)
+        )
     if call == "zlevel_roughing":
         p = set_params(core.PocketParams(), a.get("params", {}))
         return core.zlevel_roughing(

@@ -54,8 +54,9 @@ def generate(count, seed):
     rng.shuffle(cases)
     while len(cases) < count:
         op, prop, values, words = rng.choice(PROPERTIES)
-        cases.append({"op": op, "property": prop, "value": rng.choice(values),
-                      "expect": list(words)})
+        cases.append(
+            {"op": op, "property": prop, "value": rng.choice(values), "expect": list(words)}
+        )
     return cases[:count]
 
 
@@ -67,15 +68,24 @@ def run(count, seed, timeout, addon, work, memory_mb=6144):
         case_file = os.path.join(folder, "case.json")
         with open(case_file, "w") as f:
             json.dump(case, f)
-        env = dict(os.environ, HOME=os.path.join(folder, "home"), ISOCAM_ADDON_DIR=addon,
-                   ISOCAM_FUZZ_CASE=case_file, ISOCAM_FUZZ_DIR=folder,
-                   ISOCAM_TEST_DATA=os.path.join(ROOT, "tests", "data"))
+        env = dict(
+            os.environ,
+            HOME=os.path.join(folder, "home"),
+            ISOCAM_ADDON_DIR=addon,
+            ISOCAM_FUZZ_CASE=case_file,
+            ISOCAM_FUZZ_DIR=folder,
+            ISOCAM_TEST_DATA=os.path.join(ROOT, "tests", "data"),
+        )
         for k in ("XDG_CONFIG_HOME", "XDG_DATA_HOME", "XDG_CACHE_HOME"):
             env.pop(k, None)
         started = time.monotonic()
-        proc = subprocess.Popen(["freecadcmd", os.path.join(HERE, "fc_case.py")],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env,
-                                preexec_fn=limit(memory_mb))
+        proc = subprocess.Popen(
+            ["freecadcmd", os.path.join(HERE, "fc_case.py")],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            env=env,
+            preexec_fn=limit(memory_mb),
+        )
         timed_out = False
         try:
             out, _ = proc.communicate(timeout=timeout)
@@ -94,7 +104,15 @@ def run(count, seed, timeout, addon, work, memory_mb=6144):
         else:
             res = json.loads(m.group(1))
             cls, why = res["class"], res["why"]
-        what = ("model %s" % case["shape"]) if "shape" in case else "%s.%s = %r" % (
-            case["op"], case["property"], case["value"])
+        what = (
+            ("model %s" % case["shape"])
+            if "shape" in case
+            else "%s.%s = %r" % (case["op"], case["property"], case["value"])
+        )
         yield cls, "f%03d %-7s %5.1fs freecad %s -> %s" % (
-            i, cls, time.monotonic() - started, what, why[:200])
+            i,
+            cls,
+            time.monotonic() - started,
+            what,
+            why[:200],
+        )

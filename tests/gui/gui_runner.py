@@ -123,9 +123,7 @@ def _run():
     gui_support.prepare_main_window()
     test_file = os.environ["ISOCAM_TEST_FILE"]
     suite = unittest.defaultTestLoader.loadTestsFromModule(_load(test_file))
-    runner = unittest.TextTestRunner(
-        stream=_log, verbosity=2, resultclass=_ImmediateResult
-    )
+    runner = unittest.TextTestRunner(stream=_log, verbosity=2, resultclass=_ImmediateResult)
     result = runner.run(suite)
     _log.write("gui_runner: %.1f s\n" % (time.monotonic() - STARTED))
     gui_support.dump_report_view(_log)

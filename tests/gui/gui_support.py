@@ -44,8 +44,7 @@ def wait_until(predicate, timeout, what):
         if time.monotonic() > end:
             path = screenshot("failure-waiting")
             raise AssertionError(
-                "timed out after %g s waiting for %s (screenshot %s)"
-                % (timeout, what, path)
+                "timed out after %g s waiting for %s (screenshot %s)" % (timeout, what, path)
             )
         pump(0.02)
 
@@ -132,9 +131,7 @@ def screenshot(name, widget=None):
         pixmap = screen.grabWindow(0)
     else:
         corner = widget.mapToGlobal(QtCore.QPoint(0, 0))
-        pixmap = screen.grabWindow(
-            0, corner.x(), corner.y(), widget.width(), widget.height()
-        )
+        pixmap = screen.grabWindow(0, corner.x(), corner.y(), widget.width(), widget.height())
     pixmap.save(path)
     return path
 
@@ -160,9 +157,7 @@ def report_view_text():
 
 
 def dump_report_view(stream):
-    stream.write(
-        "--- report view ---\n%s\n--- end of report view ---\n" % report_view_text()
-    )
+    stream.write("--- report view ---\n%s\n--- end of report view ---\n" % report_view_text())
 
 
 # -- user actions ----------------------------------------------------------------
@@ -462,8 +457,12 @@ def _describe_change(after, before):
     a, b = after.splitlines(), before.splitlines()
     first = next((i for i, (x, y) in enumerate(zip(a, b)) if x != y), min(len(a), len(b)))
     return "%d vs %d lines, first difference at line %d: %r vs %r" % (
-        len(a), len(b), first, a[first] if first < len(a) else None,
-        b[first] if first < len(b) else None)
+        len(a),
+        len(b),
+        first,
+        a[first] if first < len(a) else None,
+        b[first] if first < len(b) else None,
+    )
 
 
 def _without_flags(brep):
@@ -472,9 +471,7 @@ def _without_flags(brep):
     sets "checked" once a shape has been analysed (FreeCAD 1.1's Stock after
     a recompute of its Job), which is bookkeeping, not geometry."""
     return "\n".join(
-        line
-        for line in brep.splitlines()
-        if not (len(line) == 7 and set(line) <= {"0", "1"})
+        line for line in brep.splitlines() if not (len(line) == 7 and set(line) <= {"0", "1"})
     )
 
 

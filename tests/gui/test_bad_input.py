@@ -70,9 +70,7 @@ class BadInput(unittest.TestCase):
             FreeCADGui.Selection.addSelection(self.doc.Name, obj.Name, sub)
         known = {o.Name for o in _our_ops(self.doc)}
         gui.trigger(gui.toolbar_action(gui.isocam_toolbar(), COMMAND))
-        gui.wait_until(
-            lambda: gui.task_button(QtGui.QDialogButtonBox.Ok), 20, "the task panel"
-        )
+        gui.wait_until(lambda: gui.task_button(QtGui.QDialogButtonBox.Ok), 20, "the task panel")
         (op,) = [o for o in _our_ops(self.doc) if o.Name not in known]
         return op, op.ViewObject.Proxy.panel.op_page
 
@@ -80,9 +78,7 @@ class BadInput(unittest.TestCase):
         """Press OK; `op` must end in error naming `fragments`, the rest of
         the document as in `before`."""
         gui.click(gui.task_button(QtGui.QDialogButtonBox.Ok))
-        gui.wait_until(
-            lambda: not FreeCADGui.Control.activeDialog(), 60, "the panel to close"
-        )
+        gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 60, "the panel to close")
         message = op.getStatusString()
         self.assertIn("Invalid", op.State, message)
         for fragment in fragments:
@@ -135,9 +131,7 @@ class BadInput(unittest.TestCase):
         op.Base = [(self.mat_clone, ["Face1"])]
         gui.pump(0.2)  # the document observer attaches the view provider
         FreeCADGui.getDocument(self.doc.Name).setEdit(op.Name)
-        gui.wait_until(
-            lambda: gui.task_button(QtGui.QDialogButtonBox.Ok), 20, "the task panel"
-        )
+        gui.wait_until(lambda: gui.task_button(QtGui.QDialogButtonBox.Ok), 20, "the task panel")
         page = op.ViewObject.Proxy.panel.op_page
         self.assertEqual(page.form.toolController.currentText(), self.flat_tc.Label)
         self.assertTrue(any("ball-end tool" in m for m in page.messages), page.messages)
@@ -190,9 +184,7 @@ class BadInput(unittest.TestCase):
         doc, job = self._fresh_job("IsoCAMAddBall")
         seen = []
         self._press_with_offer(seen, value=8.0)
-        gui.wait_until(
-            lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 30, "the panel"
-        )
+        gui.wait_until(lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 30, "the panel")
         gui.screenshot("panel-after-ball-end-offer")
         (op,) = _our_ops(doc)
         tc = op.ToolController
@@ -220,9 +212,7 @@ class BadInput(unittest.TestCase):
             "the view provider",
         )
         FreeCADGui.getDocument(doc.Name).setEdit(op.Name)
-        gui.wait_until(
-            lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 20, "the panel"
-        )
+        gui.wait_until(lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 20, "the panel")
         self.assertIs(op.ViewObject.Proxy.Object, op)
         gui.click(gui.task_button(QtGui.QDialogButtonBox.Cancel))
         gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "close")

@@ -32,9 +32,7 @@ LONG = (2, 0.025)
 
 
 def _model():
-    body = Part.makeBox(120, 80, 20).cut(
-        Part.makeBox(100, 60, 10, FreeCAD.Vector(10, 10, FLOOR_Z))
-    )
+    body = Part.makeBox(120, 80, 20).cut(Part.makeBox(100, 60, 10, FreeCAD.Vector(10, 10, FLOOR_Z)))
     return body.fuse(Part.makeCylinder(8, 10, FreeCAD.Vector(40, 35, FLOOR_Z))).removeSplitter()
 
 

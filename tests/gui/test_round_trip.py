@@ -34,9 +34,7 @@ def _ops(doc):
     return [
         o
         for o in doc.Objects
-        if isinstance(
-            getattr(o, "Proxy", None), adaptive_isocurve.ObjectAdaptiveIsocurve
-        )
+        if isinstance(getattr(o, "Proxy", None), adaptive_isocurve.ObjectAdaptiveIsocurve)
     ]
 
 
@@ -49,9 +47,7 @@ class RoundTrip(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="isocam-gui-")
-        preferences.store_default(
-            adaptive_isocurve.OP_NAME, "ChordTolerance", PREFERRED_CHORD
-        )
+        preferences.store_default(adaptive_isocurve.OP_NAME, "ChordTolerance", PREFERRED_CHORD)
         cls.doc = FreeCAD.newDocument("IsoCAMRoundTrip")
         model = cls.doc.addObject("Part::Feature", "MAT")
         model.Shape = gui.load_shape("MAT.brep")
@@ -206,9 +202,7 @@ class RoundTrip(unittest.TestCase):
         gui.set_view(self.doc.Name, on=self.job.Model.Group)
         gui.screenshot("simulator")
         gui.task_button(QtGui.QDialogButtonBox.Cancel).click()
-        gui.wait_until(
-            lambda: not FreeCADGui.Control.activeDialog(), 30, "the simulator to close"
-        )
+        gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 30, "the simulator to close")
         leftovers = [o.Name for o in self.doc.Objects if o.Name.startswith("Cut")]
         self.assertEqual(leftovers, [])
 
@@ -267,9 +261,7 @@ class RoundTrip(unittest.TestCase):
         gui.screenshot("panel-after-cancel")
         # Cancel on the panel discards the edit: everything as it was.
         gui.task_button(QtGui.QDialogButtonBox.Cancel).click()
-        gui.wait_until(
-            lambda: not FreeCADGui.Control.activeDialog(), 20, "the panel to close"
-        )
+        gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "the panel to close")
         self.assertAlmostEqual(op.ScallopHeight.Value, SCALLOP)
         self.assertEqual(gui.snapshot(self.doc), before)
 
@@ -293,12 +285,8 @@ class RoundTrip(unittest.TestCase):
         self.assertEqual(op.Path.toGCode(), self.gcode)
         # The reopened op opens its panel.
         FreeCADGui.ActiveDocument.setEdit(op.Name)
-        gui.wait_until(
-            lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 20, "the panel"
-        )
-        self.assertIsInstance(
-            op.ViewObject.Proxy.panel.op_page.form.ScallopHeight, QtGui.QWidget
-        )
+        gui.wait_until(lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 20, "the panel")
+        self.assertIsInstance(op.ViewObject.Proxy.panel.op_page.form.ScallopHeight, QtGui.QWidget)
         gui.screenshot("reopened-panel")
         gui.task_button(QtGui.QDialogButtonBox.Cancel).click()
         gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "close")

@@ -13,9 +13,7 @@ import numpy as np  # noqa: E402
 
 import isocam_core as core  # noqa: E402
 
-DATA = os.environ.get(
-    "ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data")
-)
+DATA = os.environ.get("ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data"))
 
 
 def read(name):
@@ -55,14 +53,12 @@ class Binding(unittest.TestCase):
         m = self.res.metrics
         # 1e-6 mm on lengths of some 10^4 mm: numpy and the core add the same
         # segments in another order (rounding ~1e-12 relative), nothing more.
+        self.assertAlmostEqual(seg[kind[1:] == core.FEED].sum(), m.cutting_length, delta=1e-6)
+        self.assertAlmostEqual(seg[kind[1:] == core.RAPID].sum(), m.rapid_length, delta=1e-6)
         self.assertAlmostEqual(
-            seg[kind[1:] == core.FEED].sum(), m.cutting_length, delta=1e-6
-        )
-        self.assertAlmostEqual(
-            seg[kind[1:] == core.RAPID].sum(), m.rapid_length, delta=1e-6
-        )
-        self.assertAlmostEqual(
-            seg[(kind[1:] == core.PLUNGE) | (kind[1:] == core.RAMP)].sum(), m.plunge_length, delta=1e-6
+            seg[(kind[1:] == core.PLUNGE) | (kind[1:] == core.RAMP)].sum(),
+            m.plunge_length,
+            delta=1e-6,
         )
         # Entries (plunges down, ramps) and lifts (retracts: a plunge up is a
         # lift fed where a rapid would pass nearer than r to the model).
@@ -90,9 +86,7 @@ class Binding(unittest.TestCase):
         self.assertEqual(self.res.face_direction[0] in ("U", "V"), True)
 
     def test_stepover_formula(self):
-        self.assertAlmostEqual(
-            core.stepover_for_scallop(3.0, 0.01), 2 * math.sqrt(0.06 - 1e-4)
-        )
+        self.assertAlmostEqual(core.stepover_for_scallop(3.0, 0.01), 2 * math.sqrt(0.06 - 1e-4))
         self.assertAlmostEqual(
             core.scallop_for_stepover(3.0, core.stepover_for_scallop(3.0, 0.01)), 0.01
         )
@@ -190,6 +184,7 @@ class Binding(unittest.TestCase):
         self.assertEqual(got, "cancelled", seen)
         self.assertTrue(0.0 < seen[-1] < 1.0, seen)
         self.assertLess(final, 1.0)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -165,9 +165,7 @@ class CompatLayouts(unittest.TestCase):
         modules = _all(OLD_LAYOUT, OLD_GUI, OLD_EXTRA)
         with FakeLayout(["0", "20", "2"], modules, plain_path_module=True) as compat:
             self.assert_picks(compat, OLD_LAYOUT, OLD_GUI)
-            self.assertEqual(
-                compat.tool_bit_module().LAYOUT_MARK, "PathScripts.PathToolBit"
-            )
+            self.assertEqual(compat.tool_bit_module().LAYOUT_MARK, "PathScripts.PathToolBit")
             post = compat.load_post_script("linuxcnc")
             self.assertEqual(post.LAYOUT_MARK, "PathScripts.post.linuxcnc_post")
             self.assertEqual(compat.path_command("Simulator"), "Path_Simulator")
@@ -203,7 +201,9 @@ def _log(level, module_line_func, msg):
     if levels.get(module_line_func[0], Level.NOTICE) >= level:
         lines.append((module_line_func[0], level, msg))
 """
-LOGGERS_LOG = FUNCTIONS_LOG + """
+LOGGERS_LOG = (
+    FUNCTIONS_LOG
+    + """
 class _Logger:
     def __init__(self, module):
         self.module = module
@@ -218,6 +218,7 @@ class _Logger:
 def getModuleLogger(module):
     return _Logger(module)
 """
+)
 
 
 class TranslationAndLog(unittest.TestCase):

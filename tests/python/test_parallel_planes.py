@@ -20,9 +20,7 @@ import numpy as np  # noqa: E402
 
 import isocam_core as core  # noqa: E402
 
-DATA = os.environ.get(
-    "ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data")
-)
+DATA = os.environ.get("ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data"))
 R, H = 3.0, 0.05
 
 

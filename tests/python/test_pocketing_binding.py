@@ -14,9 +14,7 @@ import numpy as np  # noqa: E402
 
 import isocam_core as core  # noqa: E402
 
-DATA = os.environ.get(
-    "ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data")
-)
+DATA = os.environ.get("ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data"))
 
 # A 100 x 60 rectangle and a round island of radius 10 (two half arcs, cw).
 BOUNDARY = np.array(
@@ -59,9 +57,7 @@ class PocketBinding(unittest.TestCase):
         r, m = self.res, self.res.metrics
         cutting = np.isin(r.kind[1:], (core.FEED, core.ARC_CW, core.ARC_CCW))
         self.assertEqual(m.cl_points, int(cutting.sum()))
-        self.assertEqual(
-            m.arcs, int(np.isin(r.kind, (core.ARC_CW, core.ARC_CCW)).sum())
-        )
+        self.assertEqual(m.arcs, int(np.isin(r.kind, (core.ARC_CW, core.ARC_CCW)).sum()))
         self.assertEqual(m.levels, 2)
         self.assertGreater(m.arcs, 0)
         up = (r.kind[1:] == core.RAPID) & (r.xyz[1:, 2] > r.xyz[:-1, 2])
@@ -84,9 +80,7 @@ class PocketBinding(unittest.TestCase):
 
     def test_coverage_of_the_result(self):
         r = self.res
-        rep = core.pocket_coverage(
-            [BOUNDARY, ISLAND], r.kind, r.xyz, r.centre, 3.0, 0.0, 0.2
-        )
+        rep = core.pocket_coverage([BOUNDARY, ISLAND], r.kind, r.xyz, r.centre, 3.0, 0.0, 0.2)
         self.assertEqual(rep["uncut_reachable_area"], 0.0)
         self.assertEqual(rep["outside_samples"], 0)
         # The tool runs along the offset r from the walls: the smallest
@@ -145,9 +139,7 @@ class PocketBinding(unittest.TestCase):
         progress = core.Progress()
         progress.cancel()
         with self.assertRaises(core.CancelledError):
-            core.spiral_pocket(
-                BOUNDARY, [ISLAND], params(stepover=0.05), [0.0], progress
-            )
+            core.spiral_pocket(BOUNDARY, [ISLAND], params(stepover=0.05), [0.0], progress)
         # A long job in a thread: the main thread keeps running meanwhile.
         progress = core.Progress()
         outcome = {}

@@ -12,9 +12,7 @@ import numpy as np  # noqa: E402
 
 import isocam_core as core  # noqa: E402
 
-DATA = os.environ.get(
-    "ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data")
-)
+DATA = os.environ.get("ISOCAM_TEST_DATA", os.path.join(os.path.dirname(__file__), "..", "data"))
 
 
 def read(name):
@@ -33,8 +31,10 @@ class RobustnessTest(unittest.TestCase):
     def test_brep_errors_give_the_byte_offset(self):
         text = read("face.brep")
         k = text.index("Surfaces ")
-        bad = text[:k] + "Surfaces 999999999" + text[text.index("\n", k):]
-        with self.assertRaisesRegex(ValueError, r"Surfaces count 999999999 exceeds .* at byte %d" % (k + 9)):
+        bad = text[:k] + "Surfaces 999999999" + text[text.index("\n", k) :]
+        with self.assertRaisesRegex(
+            ValueError, r"Surfaces count 999999999 exceeds .* at byte %d" % (k + 9)
+        ):
             core.adaptive_isocurve(bad, [0], core.IsoParams())
 
     def test_work_budget_is_a_parameter(self):

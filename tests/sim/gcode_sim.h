@@ -74,7 +74,7 @@ struct Sample {
   float area = 0.0f;         // the part of the face's area this point stands for (mm^2)
   int face = 0;              // 1-based, FreeCAD's FaceN
   bool picked = false;
-  bool open = false;         // its face bounds no solid of the shape: either side may be cut
+  bool open = false;  // its face bounds no solid of the shape: either side may be cut
 };
 
 // The faces of `shape` as FreeCAD numbers them (FaceN = N-th entry of
@@ -98,8 +98,8 @@ struct Options {
   // above): no model point that close to the vertical ray up from its centre.
   // A point of an open face is reachable if it is so from either side.
   bool from_above = true;
-  double scallop = -1.0;       // if > 0: coverage = reachable fraction with d <= scallop
-  double cell = 0.5;           // fine cell of the sample grid (mm)
+  double scallop = -1.0;  // if > 0: coverage = reachable fraction with d <= scallop
+  double cell = 0.5;      // fine cell of the sample grid (mm)
   int threads = 2;
 };
 

@@ -77,11 +77,11 @@ int run(int argc, char** argv) {
       throw std::runtime_error("bad argument '" + key + "' (each option takes a value)\n" + kUsage);
     a[key] = argv[++i];
   }
-  static const char* known[] = {"--brep",      "--faces",      "--radius",       "--gcode",
-                                "--rs274",     "--tool-table", "--canon",        "--spacing",
-                                "--threads",   "--scallop",    "--max-residual", "--reach-margin",
-                                "--reach-tol", "--arc-sag",    "--cell",         "--map",
-                                "--map-step",  "--canon-out",  "--rapid-rate", "--reach-from-above"};
+  static const char* known[] = {
+      "--brep",         "--faces",        "--radius",    "--gcode",      "--rs274",
+      "--tool-table",   "--canon",        "--spacing",   "--threads",    "--scallop",
+      "--max-residual", "--reach-margin", "--reach-tol", "--arc-sag",    "--cell",
+      "--map",          "--map-step",     "--canon-out", "--rapid-rate", "--reach-from-above"};
   for (const auto& [k, v] : a) {
     bool ok = false;
     for (const char* n : known) ok = ok || k == n;
@@ -102,7 +102,8 @@ int run(int argc, char** argv) {
   if (a.count("--reach-tol")) o.reach_tol = positive("--reach-tol", a["--reach-tol"], true);
   if (a.count("--reach-from-above")) {
     const std::string& v = a["--reach-from-above"];
-    if (v != "0" && v != "1") throw std::runtime_error("--reach-from-above must be 0 or 1, got " + v);
+    if (v != "0" && v != "1")
+      throw std::runtime_error("--reach-from-above must be 0 or 1, got " + v);
     o.from_above = v == "1";
   }
   if (a.count("--cell")) o.cell = positive("--cell", a["--cell"]);

@@ -2,12 +2,11 @@
 // guards and the face/direction orchestration around it.
 #include "isocam/adaptive_isocurve.h"
 
+#include <Standard_Failure.hxx>
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
-
-#include <Standard_Failure.hxx>
 
 #include "finishing/coverage.h"
 #include "finishing/stepover.h"
@@ -32,8 +31,9 @@ void check_radius(double r) {
 double stepover_for_scallop(double r, double h) {
   check_radius(r);
   if (!std::isfinite(h) || !(h > 0) || h > r)
-    throw InvalidArgument("scallop_height = " + std::to_string(h) +
-                          " is out of range: must be > 0 and <= ball_radius = " + std::to_string(r));
+    throw InvalidArgument(
+        "scallop_height = " + std::to_string(h) +
+        " is out of range: must be > 0 and <= ball_radius = " + std::to_string(r));
   return 2.0 * std::sqrt(2.0 * r * h - h * h);
 }
 
@@ -71,8 +71,8 @@ void measure_pair(const PatchGrid& g, const StepoverField& field,
   for (const IsoDistancePiece& p : pieces) {
     const double m = max_iso_distance({p});
     out->max_iso_distance = std::max(out->max_iso_distance, m);
-    out->guaranteed_scallop = std::max(
-        out->guaranteed_scallop, field.scallop(g.span_of_u(0.5 * (p.a + p.b)), v1, v2, m));
+    out->guaranteed_scallop =
+        std::max(out->guaranteed_scallop, field.scallop(g.span_of_u(0.5 * (p.a + p.b)), v1, v2, m));
   }
 }
 
@@ -104,7 +104,6 @@ std::vector<Interval> too_wide(const PatchGrid& g, const StepoverField& field, d
   return out;
 }
 
-
 struct Level {
   double v;
   PiecewiseBezier curve;
@@ -114,7 +113,12 @@ class AdaptiveRecursion {
  public:
   AdaptiveRecursion(const PatchGrid& g, int face, IsoDirection dir, const StepoverField& field,
                     const IsoParams& p, const ProgressSlice& progress)
-      : g_(g), face_(face), dir_(dir), field_(field), params_(p), progress_(progress),
+      : g_(g),
+        face_(face),
+        dir_(dir),
+        field_(field),
+        params_(p),
+        progress_(progress),
         area_((g.umax() - g.umin()) * (g.vmax() - g.vmin())) {}
 
   FaceCoverage run() {
@@ -157,14 +161,14 @@ class AdaptiveRecursion {
     if (refine.empty()) return;
     if (depth >= params_.max_depth) {
       throw GeometryError(face_label(face_) + ": Algorithm 1 needs more than max_depth = " +
-                          std::to_string(params_.max_depth) + " levels of middle isocurves near v = " +
-                          std::to_string(c1.v));
+                          std::to_string(params_.max_depth) +
+                          " levels of middle isocurves near v = " + std::to_string(c1.v));
     }
     if (c2.v - c1.v < params_.min_param_gap * (g_.vmax() - g_.vmin())) {
       throw GeometryError(face_label(face_) +
                           ": isocurves closer than min_param_gap in parameter are still more than "
-                          "delta apart near v = " + std::to_string(c1.v) +
-                          " (the surface is singular there)");
+                          "delta apart near v = " +
+                          std::to_string(c1.v) + " (the surface is singular there)");
     }
     // The paper inserts the middle isocurve at the mid parameter. Where the
     // pair needs k strips, the level at floor(k/2)/k of the way leaves
@@ -181,7 +185,8 @@ class AdaptiveRecursion {
   }
 
   // Union of two sorted lists of disjoint intervals.
-  static std::vector<Interval> merged(const std::vector<Interval>& a, const std::vector<Interval>& b) {
+  static std::vector<Interval> merged(const std::vector<Interval>& a,
+                                      const std::vector<Interval>& b) {
     std::vector<Interval> v = a;
     v.insert(v.end(), b.begin(), b.end());
     std::sort(v.begin(), v.end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
@@ -200,8 +205,9 @@ class AdaptiveRecursion {
   // iso-distance left, the scallop it guarantees, and the progress.
   void accept(const Level& c1, const Level& c2, const Interval& ok,
               const std::vector<IsoDistancePiece>* whole) {
-    measure_pair(g_, field_, whole ? *whole : iso_distance_squared(c1.curve, c2.curve, ok.lo, ok.hi),
-                 c1.v, c2.v, &out_);
+    measure_pair(g_, field_,
+                 whole ? *whole : iso_distance_squared(c1.curve, c2.curve, ok.lo, ok.hi), c1.v,
+                 c2.v, &out_);
     done_ += (c2.v - c1.v) * (ok.hi - ok.lo);
     progress_.report(std::min(1.0, done_ / area_));
   }

@@ -23,23 +23,27 @@ using Path = std::vector<FrontPiece>;
 // Samples of the face about `step` apart (by the patch's corner-to-corner
 // sides; at most 512 a side per patch), inside its wires: f(u, v).
 template <class F>
-void for_each_sample(const PatchGrid& g, const TrimDomain& trim, bool transposed, double step, F f) {
+void for_each_sample(const PatchGrid& g, const TrimDomain& trim, bool transposed, double step,
+                     F f) {
   const auto& ub = g.ubreaks();
   const auto& vb = g.vbreaks();
   for (int j = 0; j < g.patches_v(); ++j)
     for (int i = 0; i < g.patches_u(); ++i) {
       const std::size_t iu = static_cast<std::size_t>(i), jv = static_cast<std::size_t>(j);
       const gp_Pnt c00 = g.eval(ub[iu], vb[jv]);
-      const double su = std::max(c00.Distance(g.eval(ub[iu + 1], vb[jv])),
-                                 g.eval(ub[iu], vb[jv + 1]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
-      const double sv = std::max(c00.Distance(g.eval(ub[iu], vb[jv + 1])),
-                                 g.eval(ub[iu + 1], vb[jv]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
+      const double su =
+          std::max(c00.Distance(g.eval(ub[iu + 1], vb[jv])),
+                   g.eval(ub[iu], vb[jv + 1]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
+      const double sv =
+          std::max(c00.Distance(g.eval(ub[iu], vb[jv + 1])),
+                   g.eval(ub[iu + 1], vb[jv]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
       const int nu = std::clamp(static_cast<int>(std::ceil(su / step)), 1, 512);
       const int nv = std::clamp(static_cast<int>(std::ceil(sv / step)), 1, 512);
       for (int a = 0; a < nu; ++a)
         for (int b = 0; b < nv; ++b) {
           const double s = (a + 0.5) / nu, t = (b + 0.5) / nv;
-          const double u = ub[iu] + s * (ub[iu + 1] - ub[iu]), v = vb[jv] + t * (vb[jv + 1] - vb[jv]);
+          const double u = ub[iu] + s * (ub[iu + 1] - ub[iu]),
+                       v = vb[jv] + t * (vb[jv + 1] - vb[jv]);
           if (transposed ? trim.contains(v, u) : trim.contains(u, v)) f(u, v);
         }
     }
@@ -62,8 +66,8 @@ double towards_path(const PatchGrid& g, const PathIndex& index, double u, double
 // ball, where it cannot touch, count in neither number; samples within
 // `ok` / 2 of a path (no worse than the adjacent pairs) skip the curvature.
 void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed,
-                     const PathIndex& index, double r, double step, double ok,
-                     double* max_gap, double* scallop) {
+                     const PathIndex& index, double r, double step, double ok, double* max_gap,
+                     double* scallop) {
   for_each_sample(g, trim, transposed, step, [&](double u, double v) {
     // Stops at a segment nearer than the largest gap so far and ok / 2:
     // such a sample changes neither number.
@@ -201,14 +205,19 @@ FacePaths trace_paths(const PatchGrid& g, const TrimDomain& trim, bool transpose
 ParamPt uv_at(const FrontPiece& pc, double t) {
   const std::size_t k = std::min(static_cast<std::size_t>(std::max(t, 0.0)), pc.size() - 2);
   const double f = t - double(k);
-  return {pc[k].uv.u + f * (pc[k + 1].uv.u - pc[k].uv.u), pc[k].uv.v + f * (pc[k + 1].uv.v - pc[k].uv.v)};
+  return {pc[k].uv.u + f * (pc[k + 1].uv.u - pc[k].uv.u),
+          pc[k].uv.v + f * (pc[k + 1].uv.v - pc[k].uv.v)};
 }
 
 class PieceCutter {
  public:
   PieceCutter(const PatchGrid& g, const TrimDomain& trim, bool transposed, const IsoParams& p,
               const ClearanceModel& model)
-      : g_(g), trim_(trim), transposed_(transposed), p_(p), model_(model),
+      : g_(g),
+        trim_(trim),
+        transposed_(transposed),
+        p_(p),
+        model_(model),
         clearance_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)) {}
 
   // The clear pieces of centre path over the parts of `pc` inside the face.
@@ -411,9 +420,10 @@ void add_face(const FaceOut& o, FaceCut cut, int face_index, ScallopPieces* out)
   out->max_width = std::max(out->max_width, fp.max_width);
   std::move(cut.pieces.begin(), cut.pieces.end(), std::back_inserter(out->pieces));
   if (fp.min_hits > 0)
-    out->warnings.push_back(face_label(face_index) + ": the strip width asked for a spacing below " +
-                            "the minimum (2% of the flat stepover) at " + std::to_string(fp.min_hits) +
-                            " points; the minimum was used there (see guaranteed_scallop)");
+    out->warnings.push_back(
+        face_label(face_index) + ": the strip width asked for a spacing below " +
+        "the minimum (2% of the flat stepover) at " + std::to_string(fp.min_hits) +
+        " points; the minimum was used there (see guaranteed_scallop)");
   if (fp.capped)
     out->warnings.push_back(face_label(face_index) + ": constant-scallop paths stopped at " +
                             std::to_string(fp.paths.size()) +
@@ -442,7 +452,8 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
     try {
       cut[f] = cut_face(&chosen[f], faces[f], params, model, all);
     } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(faces[f].index) + ": OpenCASCADE failed: " + e.GetMessageString());
+      throw GeometryError(face_label(faces[f].index) +
+                          ": OpenCASCADE failed: " + e.GetMessageString());
     }
   });
   all.report(0.95);

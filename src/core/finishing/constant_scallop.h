@@ -60,15 +60,15 @@ struct ScallopFace {
 };
 
 struct ScallopPieces {
-  std::vector<CutPiece> pieces;  // zig-zag per face, faces in order; no grid
+  std::vector<CutPiece> pieces;              // zig-zag per face, faces in order; no grid
   std::vector<IsoDirection> face_direction;  // U or V per face
-  int paths = 0;                   // paths over all faces (pieces of a path count once)
-  int curves = 0;                  // contact-polyline pieces inside the faces
-  double unreachable_length = 0.0; // centre path cut away: no clearance
-  double unreachable_from_above = 0.0;  // of it: the column above not clear
-  double max_spacing = 0.0;        // measured, see the header
-  double guaranteed_scallop = 0.0; // measured, see the header
-  double max_width = 0.0;          // the largest strip width used
+  int paths = 0;                             // paths over all faces (pieces of a path count once)
+  int curves = 0;                            // contact-polyline pieces inside the faces
+  double unreachable_length = 0.0;           // centre path cut away: no clearance
+  double unreachable_from_above = 0.0;       // of it: the column above not clear
+  double max_spacing = 0.0;                  // measured, see the header
+  double guaranteed_scallop = 0.0;           // measured, see the header
+  double max_width = 0.0;                    // the largest strip width used
   std::vector<std::string> warnings;
 };
 

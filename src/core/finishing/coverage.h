@@ -2,9 +2,8 @@
 #pragma once
 
 #include <functional>
-#include <string>
-
 #include <gp_Pnt.hxx>
+#include <string>
 #include <vector>
 
 #include "geometry/clearance.h"
@@ -18,7 +17,7 @@ namespace isocam {
 // per patch, from the StepoverField).
 struct FaceCoverage {
   std::vector<SubIsocurve> curves;
-  double max_iso_distance = 0.0;  // measured over all adjacent pairs
+  double max_iso_distance = 0.0;    // measured over all adjacent pairs
   double guaranteed_scallop = 0.0;  // the cusp those distances leave (stepover.h)
 };
 
@@ -66,8 +65,8 @@ struct CutPiece {
   // parallel-plane curve, which has no iso level (`level` is its plane).
   const PatchGrid* grid = nullptr;
   double level = 0.0;
-  std::vector<gp_Pnt> pts;          // ball centres
-  std::vector<double> t;            // curve parameter of each
+  std::vector<gp_Pnt> pts;  // ball centres
+  std::vector<double> t;    // curve parameter of each
   double length() const;
   void reverse();
 };

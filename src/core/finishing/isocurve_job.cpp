@@ -6,29 +6,28 @@
 // Algorithm 1 / the uniform baseline per face and direction: plan_faces,
 // choose_directions, cut_chosen), link_pieces (coverage.h), certify (the
 // measured lengths and times, the two guarantees).
+#include <Standard_Failure.hxx>
+#include <TopoDS.hxx>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <deque>
-#include <limits>
-#include <utility>
-#include <cmath>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <string>
-
-#include <Standard_Failure.hxx>
-#include <TopoDS.hxx>
+#include <utility>
 
 #include "finishing/constant_scallop.h"
 #include "finishing/coverage.h"
 #include "finishing/face_side.h"
 #include "finishing/job_budget.h"
-#include "finishing/stepover.h"
 #include "finishing/parallel_planes.h"
+#include "finishing/stepover.h"
 #include "finishing/task_pool.h"
 #include "geometry/trim_domain.h"
 #include "isocam/adaptive_isocurve.h"
@@ -82,9 +81,11 @@ void validate(const IsoParams& p) {
   if (!(p.min_param_gap > 0) || !(p.min_param_gap < 1))
     bad("min_param_gap must be in (0, 1) (got " + std::to_string(p.min_param_gap) + ")");
   if (!std::isfinite(p.safe_z)) bad("safe_z must be a finite height");
-  if (p.threads < 0) bad("threads must be >= 0 (0: one per core; got " + std::to_string(p.threads) + ")");
+  if (p.threads < 0)
+    bad("threads must be >= 0 (0: one per core; got " + std::to_string(p.threads) + ")");
   if (!(p.gouge_tolerance > 0) || !(p.gouge_tolerance < p.ball_radius))
-    bad("gouge_tolerance must be > 0 and < the ball radius (got " + std::to_string(p.gouge_tolerance) + ")");
+    bad("gouge_tolerance must be > 0 and < the ball radius (got " +
+        std::to_string(p.gouge_tolerance) + ")");
   check_job_limits(p);
 }
 
@@ -99,7 +100,8 @@ ErrorBudget split_budget(const IsoParams& p) {
   if (!(overcut_room > 0))
     throw InvalidArgument("overcut_tolerance (" + mm(p.overcut_tolerance) +
                           " mm) must exceed gouge_tolerance + the posted rounding sqrt(3)/2 x "
-                          "posted_resolution (" + mm(b.gouge + b.posted) + " mm)");
+                          "posted_resolution (" +
+                          mm(b.gouge + b.posted) + " mm)");
   if (!(scallop_room > 0))
     throw InvalidArgument("scallop_height (" + mm(p.scallop_height) +
                           " mm) must exceed the posted rounding sqrt(3)/2 x posted_resolution (" +
@@ -110,13 +112,17 @@ ErrorBudget split_budget(const IsoParams& p) {
   }
   b.chord = p.chord_tolerance;
   if (b.chord > overcut_room)
-    throw InvalidArgument("chord_tolerance (" + mm(b.chord) + " mm) does not fit overcut_tolerance (" +
-                          mm(p.overcut_tolerance) + " mm): at most overcut_tolerance - gouge_tolerance"
-                          " - posted rounding = " + mm(overcut_room) + " mm (0: derived)");
+    throw InvalidArgument("chord_tolerance (" + mm(b.chord) +
+                          " mm) does not fit overcut_tolerance (" + mm(p.overcut_tolerance) +
+                          " mm): at most overcut_tolerance - gouge_tolerance"
+                          " - posted rounding = " +
+                          mm(overcut_room) + " mm (0: derived)");
   if (!(b.chord < 0.9 * scallop_room))
     throw InvalidArgument("chord_tolerance (" + mm(b.chord) + " mm) does not fit scallop_height (" +
-                          mm(p.scallop_height) + " mm): under 0.9 x (scallop_height - posted rounding)"
-                          " = " + mm(0.9 * scallop_room) + " mm (0: derived)");
+                          mm(p.scallop_height) +
+                          " mm): under 0.9 x (scallop_height - posted rounding)"
+                          " = " +
+                          mm(0.9 * scallop_room) + " mm (0: derived)");
   return b;
 }
 
@@ -151,7 +157,7 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
                              const ErrorBudget& budget, const ProgressSlice& progress) {
   FaceResult r;
   r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
-                                                                     : face.grid);
+                                                                    : face.grid);
   r.dir = dir;
   const StepoverField field(*r.grid, p, budget.centre_error());
   r.delta_max = field.max_delta();
@@ -187,10 +193,11 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
   std::set<int> seen;
   for (int f : faces) {
     if (f < 0 || f >= static_cast<int>(count))
-      throw InvalidArgument("faces: index " + std::to_string(f) + " is out of range (the shape has " +
-                            std::to_string(count) + " faces, indices 0.." +
-                            std::to_string(count - 1) + ")");
-    if (!seen.insert(f).second) throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
+      throw InvalidArgument("faces: index " + std::to_string(f) +
+                            " is out of range (the shape has " + std::to_string(count) +
+                            " faces, indices 0.." + std::to_string(count - 1) + ")");
+    if (!seen.insert(f).second)
+      throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
   }
 }
 
@@ -258,7 +265,8 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
     } catch (const Standard_Failure& e) {
       if (is_picked)
         throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
-      warnings.push_back(face_label(f) + " is not protected from the ball: " + e.GetMessageString());
+      warnings.push_back(face_label(f) +
+                         " is not protected from the ball: " + e.GetMessageString());
       continue;
     } catch (const GeometryError& e) {
       if (is_picked) throw;

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-
 #include <thread>
 
 #include "finishing/coverage.h"
@@ -72,18 +71,21 @@ struct Hop {
   // The lift from a: fed (at the vertical feed) up to this centre height,
   // from there a rapid; a's own height if the whole lift is a rapid.
   double fed_to = 0.0;
-  gp_Pnt approach;   // where the fed entry starts (the descent's end)
-  bool ramp = false; // the entry is a ramp (at the horizontal feed), not a plunge
-  double time = 0.0; // estimated at the rates of the params
+  gp_Pnt approach;    // where the fed entry starts (the descent's end)
+  bool ramp = false;  // the entry is a ramp (at the horizontal feed), not a plunge
+  double time = 0.0;  // estimated at the rates of the params
 };
 
 class AirMoves {
  public:
   AirMoves(const IsoParams& p, const ClearanceModel& model)
-      : p_(p), model_(model), safe_c_(p.safe_z + p.ball_radius),
+      : p_(p),
+        model_(model),
+        safe_c_(p.safe_z + p.ball_radius),
         cut_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)),
         air_(model.query_distance(p.ball_radius + p.air_clearance)),
-        touch_(model.query_distance(p.ball_radius - 0.5 * (p.chord_tolerance + p.gouge_tolerance))) {}
+        touch_(
+            model.query_distance(p.ball_radius - 0.5 * (p.chord_tolerance + p.gouge_tolerance))) {}
 
   double cutting_clearance() const { return cut_; }
 
@@ -228,9 +230,9 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   cut(pieces[0]);
   std::vector<Candidate> cands;
   std::optional<gp_Vec> n_next, d_next;
-  const std::size_t batch =
-      params.threads > 0 ? std::size_t(params.threads)
-                         : std::max<std::size_t>(1, std::thread::hardware_concurrency());
+  const std::size_t batch = params.threads > 0
+                                ? std::size_t(params.threads)
+                                : std::max<std::size_t>(1, std::thread::hardware_concurrency());
   for (std::size_t step = 1; step < pieces.size(); ++step) {
     const gp_Pnt end = pieces[cur].pts.back();
     cands.clear();
@@ -241,8 +243,8 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
     }
     // The 8 nearest, in order (ties by piece, then end): only they are tried.
     const std::size_t tries = std::min<std::size_t>(8, cands.size());
-    std::partial_sort(cands.begin(), cands.begin() + static_cast<std::ptrdiff_t>(tries), cands.end(),
-                      [](const Candidate& x, const Candidate& y) {
+    std::partial_sort(cands.begin(), cands.begin() + static_cast<std::ptrdiff_t>(tries),
+                      cands.end(), [](const Candidate& x, const Candidate& y) {
                         if (x.distance != y.distance) return x.distance < y.distance;
                         if (x.piece != y.piece) return x.piece < y.piece;
                         return x.reversed < y.reversed;
@@ -261,8 +263,8 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
       d_next = start_direction(q);
       if (nearest.reversed) q.reverse();
     }
-    const Hop hop = air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr,
-                             d_next ? &*d_next : nullptr);
+    const Hop hop =
+        air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr, d_next ? &*d_next : nullptr);
     // The candidates a link might be faster than the hop to, tried in
     // order, a batch of them (one per thread) at a time: the first clear
     // one in order is taken (or the hop, if it is faster), whatever the
@@ -278,7 +280,8 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
       const std::size_t k1 = std::min(worth.size(), k0 + batch);
       for_each_index(k1 - k0, params.threads, [&](std::size_t i) {
         const Candidate& c = cands[worth[k0 + i]];
-        tried[k0 + i] = feed_link(pieces[cur], pieces[c.piece], c.reversed, params, model, clearance);
+        tried[k0 + i] =
+            feed_link(pieces[cur], pieces[c.piece], c.reversed, params, model, clearance);
       });
       for (std::size_t k = k0; k < k1 && !decided; ++k) {
         if (tried[k].empty()) continue;

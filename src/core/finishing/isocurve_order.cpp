@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-
 #include <gp.hxx>
 #include <gp_Ax1.hxx>
 
@@ -48,7 +47,8 @@ CentrePolyline centres_along(const PatchGrid& g, const SubIsocurve& c, bool forw
         const double step = 2.0 * std::acos(std::max(-1.0, 1.0 - tol / r));
         const int steps = static_cast<int>(std::ceil(angle / step));
         const gp_Ax1 axis(gp::Origin(), gp_Dir(n_in.Crossed(n_out)));
-        for (int s = 1; s < steps; ++s) out.push(d0.p.Translated(n_in.Rotated(axis, angle * s / steps) * r), a);
+        for (int s = 1; s < steps; ++s)
+          out.push(d0.p.Translated(n_in.Rotated(axis, angle * s / steps) * r), a);
       }
     }
     for (std::size_t i = 0; i < seg.size(); ++i) out.push(seg[i], ts[i]);
@@ -173,8 +173,8 @@ class RunSplitter {
       const double t_star = crossing(t_ok, p_ok, t_bad, p_bad, w);
       // Probes 1/4 of the goal either side of the prediction, farther
       // (doubling) while they land on the wrong side.
-      const double dt = std::copysign(0.25 * goal * std::abs(t_bad - t_ok) / p_ok.Distance(p_bad),
-                                      t_bad - t_ok);
+      const double dt =
+          std::copysign(0.25 * goal * std::abs(t_bad - t_ok) / p_ok.Distance(p_bad), t_bad - t_ok);
       for (int k = 0; k < 3 && std::isfinite(t_star) && inside(t_star - dt * (1 << k)); ++k) {
         probe(t_star - dt * (1 << k));
         if (t_ok == t_star - dt * (1 << k)) break;

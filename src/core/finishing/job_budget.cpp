@@ -29,8 +29,8 @@ void check_job_budget(const std::vector<TopoDS_Face>& all, const std::vector<int
   if (box.IsVoid()) throw InvalidArgument("brep: the faces have no extent");
   double x0, y0, z0, x1, y1, z1;
   box.Get(x0, y0, z0, x1, y1, z1);
-  const double far = std::max({std::abs(x0), std::abs(y0), std::abs(z0), std::abs(x1),
-                               std::abs(y1), std::abs(z1)});
+  const double far = std::max(
+      {std::abs(x0), std::abs(y0), std::abs(z0), std::abs(x1), std::abs(y1), std::abs(z1)});
   const double size = std::sqrt(box.SquareExtent());
   const double extent = std::max(size, far);
   if (user.chord_tolerance > 0)

@@ -2,9 +2,8 @@
 // isocam/work_budget.h, before any work.
 #pragma once
 
-#include <vector>
-
 #include <TopoDS_Face.hxx>
+#include <vector>
 
 #include "isocam/adaptive_isocurve.h"
 

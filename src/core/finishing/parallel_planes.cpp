@@ -147,9 +147,8 @@ class CurveCutter {
       const UV& a = uv_[j];
       const UV& b = uv_[j + 1];
       std::vector<std::pair<double, bool>> samples;
-      const TrimDomain::RectClass state =
-          trim_.classify_rect(std::min(a.u, b.u), std::max(a.u, b.u), std::min(a.v, b.v),
-                              std::max(a.v, b.v));
+      const TrimDomain::RectClass state = trim_.classify_rect(
+          std::min(a.u, b.u), std::max(a.u, b.u), std::min(a.v, b.v), std::max(a.v, b.v));
       if (state == TrimDomain::RectClass::Boundary) {
         const int m = 8;
         for (int q = 1; q < m; ++q) {

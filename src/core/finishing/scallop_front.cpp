@@ -39,8 +39,8 @@ ParamPt clamp_to(const PatchGrid& g, ParamPt q) {
 
 double span_width(const std::vector<double>& br, double t) {
   const auto it = std::upper_bound(br.begin(), br.end(), t);
-  const std::size_t i = std::clamp<std::size_t>(static_cast<std::size_t>(it - br.begin()), 1,
-                                                 br.size() - 1);
+  const std::size_t i =
+      std::clamp<std::size_t>(static_cast<std::size_t>(it - br.begin()), 1, br.size() - 1);
   return br[i] - br[i - 1];
 }
 
@@ -211,12 +211,14 @@ bool crossing(const ParamPt& a0, const ParamPt& a1, const ParamPt& b0, const Par
 void cut_loops(const PatchGrid& g, FrontPiece* piece) {
   FrontPiece& pc = *piece;
   for (std::size_t i = 0; i + 2 < pc.size(); ++i) {
-    const double ulo = std::min(pc[i].uv.u, pc[i + 1].uv.u), uhi = std::max(pc[i].uv.u, pc[i + 1].uv.u);
-    const double vlo = std::min(pc[i].uv.v, pc[i + 1].uv.v), vhi = std::max(pc[i].uv.v, pc[i + 1].uv.v);
+    const double ulo = std::min(pc[i].uv.u, pc[i + 1].uv.u),
+                 uhi = std::max(pc[i].uv.u, pc[i + 1].uv.u);
+    const double vlo = std::min(pc[i].uv.v, pc[i + 1].uv.v),
+                 vhi = std::max(pc[i].uv.v, pc[i + 1].uv.v);
     for (std::size_t j = pc.size() - 2; j > i + 1; --j) {
       const ParamPt &b0 = pc[j].uv, &b1 = pc[j + 1].uv;
-      if (std::max(b0.u, b1.u) < ulo || std::min(b0.u, b1.u) > uhi ||
-          std::max(b0.v, b1.v) < vlo || std::min(b0.v, b1.v) > vhi)
+      if (std::max(b0.u, b1.u) < ulo || std::min(b0.u, b1.u) > uhi || std::max(b0.v, b1.v) < vlo ||
+          std::min(b0.v, b1.v) > vhi)
         continue;
       double t;
       if (!crossing(pc[i].uv, pc[i + 1].uv, b0, b1, &t)) continue;
@@ -235,7 +237,8 @@ void cut_loops(const PatchGrid& g, FrontPiece* piece) {
 
 bool on_boundary(const PatchGrid& g, const ParamPt& q) {
   const double eu = 1e-9 * (g.umax() - g.umin()), ev = 1e-9 * (g.vmax() - g.vmin());
-  return q.u <= g.umin() + eu || q.u >= g.umax() - eu || q.v <= g.vmin() + ev || q.v >= g.vmax() - ev;
+  return q.u <= g.umin() + eu || q.u >= g.umax() - eu || q.v <= g.vmin() + ev ||
+         q.v >= g.vmax() - ev;
 }
 
 // A piece whose end stopped short of the rectangle's boundary (the face
@@ -250,7 +253,8 @@ void extend_ends(const PatchGrid& g, FrontPiece* piece, double reach, double ste
     if (!on_boundary(g, b.uv)) {
       const gp_Vec dir(a.p, b.p);
       if (dir.Magnitude() > 1e-300) {
-        const std::vector<MarchPt> m = march(g, b.uv, b.p, dir / dir.Magnitude(), reach, step, false);
+        const std::vector<MarchPt> m =
+            march(g, b.uv, b.p, dir / dir.Magnitude(), reach, step, false);
         if (on_boundary(g, m.back().uv) || m.back().pole) {
           FrontPiece ext;
           for (std::size_t k = m.size() - 1; k >= 1; --k) {
@@ -327,7 +331,9 @@ double PathIndex::to_segment(const gp_Pnt& p, std::size_t i) const {
 
 StripWidth ball_strip_width(double r, double h) {
   const double cap = 4.0 * std::sqrt(2.0 * r * h - h * h);
-  return [r, h, cap](const StripFrame& f) { return std::min(cap, stepover_arc(r, h, f.kappa_across)); };
+  return [r, h, cap](const StripFrame& f) {
+    return std::min(cap, stepover_arc(r, h, f.kappa_across));
+  };
 }
 
 double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir) {
@@ -426,11 +432,15 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
         const FrontPoint c = cur[0];
         for (int side = 0; side < 2; ++side) {
           const gp_Vec dir = side ? -feeds[0] : feeds[0];
-          const MarchPt e = march(g, c.uv, c.p, dir, s.sample_max / 8, s.sample_max / 8, false).back();
+          const MarchPt e =
+              march(g, c.uv, c.p, dir, s.sample_max / 8, s.sample_max / 8, false).back();
           FrontPoint x = c;
           x.uv = e.uv;
           x.p = e.p;
-          if (side) cur.push_back(x); else cur.insert(cur.begin(), x);
+          if (side)
+            cur.push_back(x);
+          else
+            cur.insert(cur.begin(), x);
         }
         len = cur.front().p.Distance(cur.back().p);
       }

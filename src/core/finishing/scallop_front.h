@@ -11,11 +11,10 @@
 
 #include <cstdint>
 #include <functional>
-#include <unordered_map>
-#include <vector>
-
 #include <gp_Pnt.hxx>
 #include <gp_Vec.hxx>
+#include <unordered_map>
+#include <vector>
 
 #include "geometry/patch_grid.h"
 
@@ -28,10 +27,10 @@ struct ParamPt {
 // What a strip-width function sees at a contact point.
 struct StripFrame {
   ParamPt uv;
-  gp_Pnt p;        // contact point
-  gp_Vec normal;   // unit, away from the material
-  gp_Vec feed;     // unit tangent of the path
-  gp_Vec across;   // unit, normal x feed (towards the uncovered side)
+  gp_Pnt p;                   // contact point
+  gp_Vec normal;              // unit, away from the material
+  gp_Vec feed;                // unit tangent of the path
+  gp_Vec across;              // unit, normal x feed (towards the uncovered side)
   double kappa_across = 0.0;  // normal curvature along `across` (convex > 0)
   double kappa_feed = 0.0;    // normal curvature along `feed`
 };

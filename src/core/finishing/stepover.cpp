@@ -83,7 +83,9 @@ double stepover_chord_with_error(double r, double h, double kappa, double e) {
 }
 
 StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p, double e)
-    : g_(g), r_(p.ball_radius), e_(e),
+    : g_(g),
+      r_(p.ball_radius),
+      e_(e),
       flat_(stepover_chord_with_error(p.ball_radius, p.scallop_height, 0.0, e)),
       nu_(g.patches_u()) {
   const std::size_t n = static_cast<std::size_t>(g.patches_u() * g.patches_v());
@@ -113,8 +115,9 @@ StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p, double e)
 template <class F>
 void StepoverField::rows(double v1, double v2, F f) const {
   const auto& vb = g_.vbreaks();
-  const int j0 = std::clamp(static_cast<int>(std::upper_bound(vb.begin(), vb.end(), v1) - vb.begin()) - 1,
-                            0, g_.patches_v() - 1);
+  const int j0 =
+      std::clamp(static_cast<int>(std::upper_bound(vb.begin(), vb.end(), v1) - vb.begin()) - 1, 0,
+                 g_.patches_v() - 1);
   for (int j = j0; j < g_.patches_v(); ++j) {
     if (j > j0 && vb[static_cast<std::size_t>(j)] >= v2) break;
     f(static_cast<std::size_t>(j * nu_));
@@ -123,7 +126,8 @@ void StepoverField::rows(double v1, double v2, F f) const {
 
 double StepoverField::delta(int i, double v1, double v2) const {
   double d = kInf;
-  rows(v1, v2, [&](std::size_t row) { d = std::min(d, delta_[row + static_cast<std::size_t>(i)]); });
+  rows(v1, v2,
+       [&](std::size_t row) { d = std::min(d, delta_[row + static_cast<std::size_t>(i)]); });
   return d;
 }
 

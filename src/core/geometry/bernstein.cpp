@@ -52,8 +52,8 @@ void append_merged(std::vector<Interval>& out, Interval iv) {
   }
 }
 
-void positive_rec(const Bernstein& f, double a, double b, double t_tol,
-                  double slack, int depth, std::vector<Interval>& out) {
+void positive_rec(const Bernstein& f, double a, double b, double t_tol, double slack, int depth,
+                  std::vector<Interval>& out) {
   const double hi = f.max_coeff();
   if (hi <= slack) return;  // provably (almost) non-positive
   const double lo = f.min_coeff();
@@ -176,8 +176,7 @@ Bernstein operator*(double s, const Bernstein& f) {
   return Bernstein(std::move(c));
 }
 
-std::vector<Interval> positive_intervals(const Bernstein& f, double t_tol,
-                                         double slack) {
+std::vector<Interval> positive_intervals(const Bernstein& f, double t_tol, double slack) {
   std::vector<Interval> out;
   if (f.degree() < 0) return out;
   positive_rec(f, 0.0, 1.0, t_tol, slack, 0, out);

@@ -53,8 +53,7 @@ struct Interval {
 // is reported as positive (conservative: the caller inserts a curve there);
 // `slack` >= 0 lets a tangential touch that exceeds zero by less than it count
 // as non-positive.
-std::vector<Interval> positive_intervals(const Bernstein& f, double t_tol,
-                                         double slack);
+std::vector<Interval> positive_intervals(const Bernstein& f, double t_tol, double slack);
 
 // max over [0, 1] of num/den (den > 0 there), to within relative `rel_tol`,
 // by branch and bound on the coefficient hulls. Returns the upper bound.

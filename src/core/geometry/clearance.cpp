@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <gp_Vec.hxx>
 #include <limits>
 #include <string>
-
-#include <gp_Vec.hxx>
 
 #include "bits.h"
 #include "isocam/errors.h"
@@ -54,9 +53,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // A control net being subdivided (fixed storage: no allocation per piece).
 struct ClearanceModel::Net {
   int pu = 0, pv = 0, depth = 0;
-  bool inside = true;  // known to lie inside the face's trimmed domain
+  bool inside = true;                     // known to lie inside the face's trimmed domain
   double u0 = 0, u1 = 1, v0 = 0, v1 = 1;  // its grid parameters
-  std::array<H4, kMaxNet> c;  // (a, b) at a + (pu + 1) * b
+  std::array<H4, kMaxNet> c;              // (a, b) at a + (pu + 1) * b
   int size() const { return (pu + 1) * (pv + 1); }
   H4& at(int a, int b) { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
   const H4& at(int a, int b) const { return c[static_cast<std::size_t>(a + (pu + 1) * b)]; }
@@ -165,7 +164,8 @@ double segment_box_bound2(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
   const double pa[3] = {a.X(), a.Y(), a.Z()}, pb[3] = {b.X(), b.Y(), b.Z()};
   double e2 = 0;
   for (int k = 0; k < 3; ++k) {
-    const double e = std::max({0.0, lo[k] - std::max(pa[k], pb[k]), std::min(pa[k], pb[k]) - hi[k]});
+    const double e =
+        std::max({0.0, lo[k] - std::max(pa[k], pb[k]), std::min(pa[k], pb[k]) - hi[k]});
     e2 += e * e;
   }
   return e2;
@@ -199,8 +199,8 @@ void ClearanceModel::add(const PatchGrid& g, const TrimDomain* trim) {
   const std::size_t n = static_cast<std::size_t>((g.degree_u() + 1) * (g.degree_v() + 1));
   if (n > static_cast<std::size_t>(kMaxNet))
     throw GeometryError("surface degree " + std::to_string(g.degree_u()) + " x " +
-                        std::to_string(g.degree_v()) + " has more than " +
-                        std::to_string(kMaxNet) + " control points per patch");
+                        std::to_string(g.degree_v()) + " has more than " + std::to_string(kMaxNet) +
+                        " control points per patch");
   for (int j = 0; j < g.patches_v(); ++j) {
     for (int i = 0; i < g.patches_u(); ++i) {
       Net net;
@@ -250,7 +250,8 @@ void ClearanceModel::add_piece(const Net& net, const PatchGrid& grid, const Trim
   p.u1 = net.u1;
   p.v0 = net.v0;
   p.v1 = net.v1;
-  for (int k = 0; k < n && !p.rational; ++k) p.rational = net.c[static_cast<std::size_t>(k)].w != 1.0;
+  for (int k = 0; k < n && !p.rational; ++k)
+    p.rational = net.c[static_cast<std::size_t>(k)].w != 1.0;
   p.trim = state == TrimDomain::RectClass::Boundary ? trim : nullptr;
   p.grid = &grid;
   p.first = cps_.size();
@@ -278,7 +279,8 @@ int ClearanceModel::build_node(int lo, int hi) {
   for (int k = lo; k < hi; ++k) {
     const Box& b = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])].box;
     box.add(b);
-    centres.add(gp_Pnt(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
+    centres.add(
+        gp_Pnt(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0.5 * (b.lo[2] + b.hi[2])));
   }
   nodes_[static_cast<std::size_t>(id)].box = box;
   if (hi - lo <= 4) {
@@ -290,11 +292,12 @@ int ClearanceModel::build_node(int lo, int hi) {
   for (int k = 1; k < 3; ++k)
     if (centres.hi[k] - centres.lo[k] > centres.hi[axis] - centres.lo[axis]) axis = k;
   const int mid = (lo + hi) / 2;
-  std::nth_element(order_.begin() + lo, order_.begin() + mid, order_.begin() + hi, [&](int x, int y) {
-    const Box& bx = patches_[static_cast<std::size_t>(x)].box;
-    const Box& by = patches_[static_cast<std::size_t>(y)].box;
-    return bx.lo[axis] + bx.hi[axis] < by.lo[axis] + by.hi[axis];
-  });
+  std::nth_element(order_.begin() + lo, order_.begin() + mid, order_.begin() + hi,
+                   [&](int x, int y) {
+                     const Box& bx = patches_[static_cast<std::size_t>(x)].box;
+                     const Box& by = patches_[static_cast<std::size_t>(y)].box;
+                     return bx.lo[axis] + bx.hi[axis] < by.lo[axis] + by.hi[axis];
+                   });
   const int left = build_node(lo, mid);
   const int right = build_node(mid, hi);
   nodes_[static_cast<std::size_t>(id)].left = left;
@@ -308,7 +311,8 @@ struct ClearanceModel::Segment {
   gp_XYZ ab;
   double ab2 = 0.0;
   Segment() = default;
-  Segment(const gp_Pnt& p, const gp_Pnt& q) : a(p), b(q), ab(q.XYZ() - p.XYZ()), ab2(ab.SquareModulus()) {}
+  Segment(const gp_Pnt& p, const gp_Pnt& q)
+      : a(p), b(q), ab(q.XYZ() - p.XYZ()), ab2(ab.SquareModulus()) {}
 };
 
 bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* witness) const {
@@ -320,7 +324,8 @@ void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, 
   std::array<Segment, kBatch> segs;
   for (std::size_t first = 0; first + 1 < n; first += kBatch) {
     const int count = static_cast<int>(std::min<std::size_t>(kBatch, n - 1 - first));
-    for (int k = 0; k < count; ++k) segs[static_cast<std::size_t>(k)] = Segment(pts[first + k], pts[first + k + 1]);
+    for (int k = 0; k < count; ++k)
+      segs[static_cast<std::size_t>(k)] = Segment(pts[first + k], pts[first + k + 1]);
     const std::uint32_t hit = blocked(segs.data(), count, d, nullptr);
     for (int k = 0; k < count; ++k) out[first + static_cast<std::size_t>(k)] = !(hit >> k & 1u);
   }
@@ -395,8 +400,10 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
       const Segment& s = segs[lowest_bit(mask)];
       const bool left_first = segment_box_bound2(s.a, s.b, l.box.lo, l.box.hi) <=
                               segment_box_bound2(s.a, s.b, r.box.lo, r.box.hi);
-      if (left_first ? near_r : near_l) stack[top++] = {left_first ? n.right : n.left, left_first ? near_r : near_l};
-      if (left_first ? near_l : near_r) stack[top++] = {left_first ? n.left : n.right, left_first ? near_l : near_r};
+      if (left_first ? near_r : near_l)
+        stack[top++] = {left_first ? n.right : n.left, left_first ? near_r : near_l};
+      if (left_first ? near_l : near_r)
+        stack[top++] = {left_first ? n.left : n.right, left_first ? near_l : near_r};
       continue;
     }
     for (int k = n.patch_lo; k < n.patch_hi; ++k) {
@@ -445,9 +452,9 @@ Work& work() {
 void split_net(const H4* n, int pu, int pv, bool along_u, H4* l, H4* r) {
   const int m = along_u ? pu : pv;  // degree along the split
   const int lines = along_u ? pv + 1 : pu + 1;
-  const int stride = along_u ? 1 : pu + 1;       // between points of a line
-  const int step = along_u ? pu + 1 : 1;         // between lines
-  H4 w[kMaxNet];  // one line of the net: up to kMaxNet points
+  const int stride = along_u ? 1 : pu + 1;  // between points of a line
+  const int step = along_u ? pu + 1 : 1;    // between lines
+  H4 w[kMaxNet];                            // one line of the net: up to kMaxNet points
   for (int line = 0; line < lines; ++line) {
     const int base = line * step;
     for (int k = 0; k <= m; ++k) w[k] = n[base + k * stride];
@@ -481,14 +488,18 @@ struct ClearanceModel::PatchQuery {
   Witness* witness;
   std::size_t sz;  // control points per piece
   Work& w = work();
-  std::uint32_t hit = 0;              // segments shown blocked
-  std::array<H4, kMaxNet> c;          // the current piece's net
-  std::array<gp_Pnt, kMaxNet> pts;    // and its points in space
-  gp_Pnt corners[4];                  // its corners (points of the surface)
+  std::uint32_t hit = 0;            // segments shown blocked
+  std::array<H4, kMaxNet> c;        // the current piece's net
+  std::array<gp_Pnt, kMaxNet> pts;  // and its points in space
+  gp_Pnt corners[4];                // its corners (points of the surface)
 
   PatchQuery(const ClearanceModel& model, const Patch& p, const Segment* s, std::uint32_t mask,
              double d, Witness* wit)
-      : patch(p), segs(s), d2(d * d), keep(d - model.eps_), witness(wit),
+      : patch(p),
+        segs(s),
+        d2(d * d),
+        keep(d - model.eps_),
+        witness(wit),
         sz(static_cast<std::size_t>((p.pu + 1) * (p.pv + 1))) {
     w.pieces.clear();
     w.cps.assign(model.cps_.begin() + static_cast<std::ptrdiff_t>(patch.first),
@@ -689,8 +700,8 @@ double ClearanceModel::local_distance(const gp_Pnt& q, Witness* w) {
     if (!lower) break;
     // The distance is stationary at the minimum: parameters to 1e-10 of
     // the range put it within rounding.
-    const bool still = std::abs(nu - u) <= 1e-10 * (hi[0] - lo[0]) &&
-                       std::abs(nv - v) <= 1e-10 * (hi[1] - lo[1]);
+    const bool still =
+        std::abs(nu - u) <= 1e-10 * (hi[0] - lo[0]) && std::abs(nv - v) <= 1e-10 * (hi[1] - lo[1]);
     u = nu;
     v = nv;
     d = nd;

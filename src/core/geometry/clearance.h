@@ -19,11 +19,10 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
-#include <vector>
-
 #include <gp_Pnt.hxx>
 #include <gp_XYZ.hxx>
+#include <limits>
+#include <vector>
 
 #include "geometry/patch_grid.h"
 #include "geometry/trim_domain.h"
@@ -37,8 +36,8 @@ class ClearanceModel {
   // size).
   ClearanceModel(double eps, double max_piece) : eps_(eps), max_piece_(max_piece) {}
   // Adds every patch of the grid (which must outlive the model); with `trim`
-  // (the face's domain, which must outlive the model too) only the part of the surface inside the face counts:
-  // pieces outside it are skipped and a witness must lie inside it.
+  // (the face's domain, which must outlive the model too) only the part of the surface inside the
+  // face counts: pieces outside it are skipped and a witness must lie inside it.
   void add(const PatchGrid& grid, const TrimDomain* trim = nullptr);
   // Builds the hierarchy; call once after the last add().
   void build();
@@ -108,13 +107,14 @@ class ClearanceModel {
     Box box;                // axis-aligned box of the control net
     gp_XYZ axes[3];         // and an oriented one: axes, then bounds along them
     double olo[3] = {0, 0, 0}, ohi[3] = {0, 0, 0};
-    const TrimDomain* trim = nullptr;  // the face's domain if the patch meets its boundary, else null
-    const PatchGrid* grid = nullptr;   // the face's grid
+    const TrimDomain* trim =
+        nullptr;  // the face's domain if the patch meets its boundary, else null
+    const PatchGrid* grid = nullptr;        // the face's grid
     double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  // the patch's grid parameters
   };
   struct Node {
     Box box;
-    int left = -1, right = -1;  // children, or -1 for a leaf
+    int left = -1, right = -1;       // children, or -1 for a leaf
     int patch_lo = 0, patch_hi = 0;  // leaf: patches [lo, hi) of order_
   };
 
@@ -141,8 +141,7 @@ double segment_box_distance(const gp_Pnt& a, const gp_Pnt& b, const double lo[3]
                             const double hi[3]);
 // A lower bound of its square (the box of the segment against the box):
 // cheap, and exact for a point.
-double segment_box_bound2(const gp_Pnt& a, const gp_Pnt& b, const double lo[3],
-                          const double hi[3]);
+double segment_box_bound2(const gp_Pnt& a, const gp_Pnt& b, const double lo[3], const double hi[3]);
 // segment_box_distance(a, b, lo, hi) >= d, trying the cheap bound first.
 bool segment_box_beyond(const gp_Pnt& a, const gp_Pnt& b, const double lo[3], const double hi[3],
                         double d);

@@ -11,11 +11,11 @@
 namespace isocam {
 
 struct CurvatureSample {
-  bool ok = false;       // false at a degenerate point (a pole): no tangent plane
-  double k_cross = 0.0;  // across the feed of an iso-v curve: the larger of the
-                         // normal curvatures in the direction N x Su and along Sv
+  bool ok = false;                  // false at a degenerate point (a pole): no tangent plane
+  double k_cross = 0.0;             // across the feed of an iso-v curve: the larger of the
+                                    // normal curvatures in the direction N x Su and along Sv
   double k_min = 0.0, k_max = 0.0;  // principal curvatures
-  double area = 0.0;     // |Su x Sv| (the area element per unit du dv)
+  double area = 0.0;                // |Su x Sv| (the area element per unit du dv)
 };
 
 // At local coordinates (s, t) in (0, 1) of patch (i, j). Second derivatives

@@ -31,8 +31,7 @@ bool all_unit(const Bernstein& w) {
 }  // namespace
 
 std::vector<IsoDistancePiece> iso_distance_squared(const PiecewiseBezier& c1,
-                                                   const PiecewiseBezier& c2,
-                                                   double a, double b) {
+                                                   const PiecewiseBezier& c2, double a, double b) {
   std::vector<IsoDistancePiece> out;
   const int first = c1.span_of(a), last = c1.span_of(b);
   for (int i = first; i <= last; ++i) {
@@ -63,8 +62,7 @@ std::vector<IsoDistancePiece> iso_distance_squared(const PiecewiseBezier& c1,
   return out;
 }
 
-std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
-                                double delta) {
+std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces, double delta) {
   return exceeding(pieces, std::vector<double>(pieces.size(), delta));
 }
 
@@ -94,8 +92,7 @@ double max_iso_distance(const std::vector<IsoDistancePiece>& pieces) {
   return std::sqrt(std::max(m, 0.0));
 }
 
-std::vector<Interval> complement(const std::vector<Interval>& holes, double a,
-                                 double b) {
+std::vector<Interval> complement(const std::vector<Interval>& holes, double a, double b) {
   std::vector<Interval> out;
   double cur = a;
   for (const Interval& h : holes) {

@@ -21,13 +21,11 @@ struct IsoDistancePiece {
 
 // Pieces covering [a, b] (a < b, within the curves' common breaks).
 std::vector<IsoDistancePiece> iso_distance_squared(const PiecewiseBezier& c1,
-                                                   const PiecewiseBezier& c2,
-                                                   double a, double b);
+                                                   const PiecewiseBezier& c2, double a, double b);
 
 // Sub-intervals of [a, b] where Delta > delta (Algorithm 1's split points are
 // their ends). A tangential excess smaller than 1e-9 delta^2 is ignored.
-std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
-                                double delta);
+std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces, double delta);
 // The same with a tolerance per piece (deltas[k] for pieces[k]).
 std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
                                 const std::vector<double>& deltas);
@@ -36,7 +34,6 @@ std::vector<Interval> exceeding(const std::vector<IsoDistancePiece>& pieces,
 double max_iso_distance(const std::vector<IsoDistancePiece>& pieces);
 
 // Complement of sorted disjoint `holes` within [a, b].
-std::vector<Interval> complement(const std::vector<Interval>& holes, double a,
-                                 double b);
+std::vector<Interval> complement(const std::vector<Interval>& holes, double a, double b);
 
 }  // namespace isocam

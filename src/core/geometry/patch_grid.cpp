@@ -1,9 +1,5 @@
 #include "geometry/patch_grid.h"
 
-#include <algorithm>
-#include <cmath>
-#include <string>
-
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
 #include <GeomConvert.hxx>
@@ -18,20 +14,25 @@
 #include <TColStd_Array1OfReal.hxx>
 #include <TColStd_Array2OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "isocam/errors.h"
 
 namespace isocam {
 namespace {
 
-std::string label(int face) { return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")"; }
+std::string label(int face) {
+  return "face " + std::to_string(face) + " (Face" + std::to_string(face + 1) + ")";
+}
 
 // The face's surface as a non-periodic B-spline covering [u1,u2]x[v1,v2].
 // `same_params` tells whether the result keeps the face's parameters (B-spline
 // and Bezier surfaces) or reparametrises them (the NURBS form of an analytic
 // surface: a monotone map per direction).
-Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1,
-                                       double u2, double v1, double v2, bool* same_params) {
+Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1, double u2, double v1,
+                                       double v2, bool* same_params) {
   *same_params = true;
   while (auto trimmed = Handle(Geom_RectangularTrimmedSurface)::DownCast(surf)) {
     surf = trimmed->BasisSurface();
@@ -53,8 +54,7 @@ Handle(Geom_BSplineSurface) to_bspline(Handle(Geom_Surface) surf, double u1,
     return GeomConvert::SurfaceToBSplineSurface(piece);
   } catch (const Standard_Failure&) {
     // Not convertible exactly (offset surface, ...): approximate closely.
-    GeomConvert_ApproxSurface approx(piece, 1e-6, GeomAbs_C2, GeomAbs_C2, 9, 9,
-                                     200, 1);
+    GeomConvert_ApproxSurface approx(piece, 1e-6, GeomAbs_C2, GeomAbs_C2, 9, 9, 200, 1);
     if (!approx.HasResult()) throw;
     return approx.Surface();
   }
@@ -71,7 +71,8 @@ H4 casteljau_in(const H4* cps, int n, double t) {
   std::copy(cps, cps + n, b.begin());
   for (int k = 1; k < n; ++k)
     for (int i = 0; i + k < n; ++i)
-      b[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] * (1 - t) + b[static_cast<std::size_t>(i) + 1] * t;
+      b[static_cast<std::size_t>(i)] =
+          b[static_cast<std::size_t>(i)] * (1 - t) + b[static_cast<std::size_t>(i) + 1] * t;
   return b[0];
 }
 }  // namespace
@@ -96,7 +97,9 @@ void restrict_h4(const H4* cps, int degree, double a, double b, H4* out) {
   std::vector<H4> tri(cps, cps + n), right(static_cast<std::size_t>(n));
   right[static_cast<std::size_t>(n - 1)] = tri[static_cast<std::size_t>(n - 1)];
   for (int k = 1; k < n; ++k) {
-    for (int i = 0; i + k < n; ++i) tri[static_cast<std::size_t>(i)] = tri[static_cast<std::size_t>(i)] * (1 - a) + tri[static_cast<std::size_t>(i) + 1] * a;
+    for (int i = 0; i + k < n; ++i)
+      tri[static_cast<std::size_t>(i)] =
+          tri[static_cast<std::size_t>(i)] * (1 - a) + tri[static_cast<std::size_t>(i) + 1] * a;
     right[static_cast<std::size_t>(n - 1 - k)] = tri[static_cast<std::size_t>(n - 1 - k)];
   }
   // right[] now are the control points of [a, 1]; take its left part at t.
@@ -104,7 +107,9 @@ void restrict_h4(const H4* cps, int degree, double a, double b, H4* out) {
   std::vector<H4> left(static_cast<std::size_t>(n));
   left[0] = right[0];
   for (int k = 1; k < n; ++k) {
-    for (int i = 0; i + k < n; ++i) right[static_cast<std::size_t>(i)] = right[static_cast<std::size_t>(i)] * (1 - t) + right[static_cast<std::size_t>(i) + 1] * t;
+    for (int i = 0; i + k < n; ++i)
+      right[static_cast<std::size_t>(i)] =
+          right[static_cast<std::size_t>(i)] * (1 - t) + right[static_cast<std::size_t>(i) + 1] * t;
     left[static_cast<std::size_t>(k)] = right[0];
   }
   std::copy(left.begin(), left.end(), out);
@@ -146,8 +151,7 @@ PatchGrid PatchGrid::from_face(const TopoDS_Face& face, int face_label) {
     u2 = std::min(u2, bu2);
     v1 = std::max(v1, bv1);
     v2 = std::min(v2, bv2);
-    GeomConvert_BSplineSurfaceToBezierSurface conv(bs, u1, u2, v1, v2,
-                                                   Precision::PConfusion());
+    GeomConvert_BSplineSurfaceToBezierSurface conv(bs, u1, u2, v1, v2, Precision::PConfusion());
     const int nu = conv.NbUPatches(), nv = conv.NbVPatches();
     TColGeom_Array2OfBezierSurface patches(1, nu, 1, nv);
     conv.Patches(patches);
@@ -211,7 +215,8 @@ void PatchGrid::finish() {
   size_ = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
   sv_bound_.assign(static_cast<std::size_t>(patches_u() * patches_v() * kStripParts), 0.0);
-  std::vector<H4> row(static_cast<std::size_t>(pu_ + 1)), part(static_cast<std::size_t>((pu_ + 1) * (pv_ + 1)));
+  std::vector<H4> row(static_cast<std::size_t>(pu_ + 1)),
+      part(static_cast<std::size_t>((pu_ + 1) * (pv_ + 1)));
   for (int j = 0; j < patches_v(); ++j) {
     const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
     for (int i = 0; i < patches_u(); ++i) {
@@ -236,7 +241,8 @@ void PatchGrid::finish() {
           const double v0 = vb_[static_cast<std::size_t>(j)];
           for (int a = 0; a <= 3; ++a)
             for (int b = 0; b <= 6; ++b)
-              m = std::max(m, d1(u0 + (u1 - u0) * (a0 + (a1 - a0) * a / 3.0), v0 + dv * b / 6.0).sv.Magnitude());
+              m = std::max(m, d1(u0 + (u1 - u0) * (a0 + (a1 - a0) * a / 3.0), v0 + dv * b / 6.0)
+                                  .sv.Magnitude());
           m *= 1.25;
         }
         sv_bound_[static_cast<std::size_t>((j * patches_u() + i) * kStripParts + s)] = m;
@@ -302,7 +308,9 @@ PiecewiseBezier PatchGrid::iso_v(double v) const {
 
 gp_Pnt PatchGrid::eval(double u, double v) const { return d1(u, v).p; }
 
-SurfaceDerivs PatchGrid::d1(double u, double v) const { return d1_on_span(find_span(ub_, u), u, v); }
+SurfaceDerivs PatchGrid::d1(double u, double v) const {
+  return d1_on_span(find_span(ub_, u), u, v);
+}
 
 template <std::size_t N>
 SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
@@ -317,13 +325,15 @@ SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
   for (int a = 0; a <= pu_; ++a) {
     for (int b = 0; b <= pv_; ++b) col[static_cast<std::size_t>(b)] = p[a + (pu_ + 1) * b];
     for (int b = 0; b < pv_; ++b)
-      dcol[static_cast<std::size_t>(b)] = (col[static_cast<std::size_t>(b) + 1] - col[static_cast<std::size_t>(b)]) * pv_;
+      dcol[static_cast<std::size_t>(b)] =
+          (col[static_cast<std::size_t>(b) + 1] - col[static_cast<std::size_t>(b)]) * pv_;
     q[static_cast<std::size_t>(a)] = casteljau(col.data(), pv_, t);
     qv[static_cast<std::size_t>(a)] = casteljau(dcol.data(), pv_ - 1, t);
   }
   std::array<H4, N> dq;
   for (int a = 0; a < pu_; ++a)
-    dq[static_cast<std::size_t>(a)] = (q[static_cast<std::size_t>(a) + 1] - q[static_cast<std::size_t>(a)]) * pu_;
+    dq[static_cast<std::size_t>(a)] =
+        (q[static_cast<std::size_t>(a) + 1] - q[static_cast<std::size_t>(a)]) * pu_;
   const H4 A = casteljau(q.data(), pu_, s);
   const H4 Au = casteljau(dq.data(), pu_ - 1, s) * (1.0 / du);
   const H4 Av = casteljau(qv.data(), pu_, s) * (1.0 / dv);

@@ -9,12 +9,11 @@
 // is what the symbolic iso-distance of Definition 4 needs.
 #pragma once
 
-#include <array>
-#include <vector>
-
 #include <TopoDS_Face.hxx>
+#include <array>
 #include <gp_Pnt.hxx>
 #include <gp_Vec.hxx>
+#include <vector>
 
 namespace isocam {
 

@@ -1,23 +1,16 @@
 #include "geometry/trim_domain.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <string>
-
-#include <BRepTopAdaptor_FClass2d.hxx>
-#include <TopoDS_Edge.hxx>
 #include <BRepTools.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2dAdaptor_Curve.hxx>
 #include <Geom2dConvert.hxx>
 #include <Geom2dConvert_BSplineCurveToBezierCurve.hxx>
+#include <Geom2dHatch_Hatcher.hxx>
+#include <Geom2dHatch_Intersector.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_BezierCurve.hxx>
 #include <Geom2d_Conic.hxx>
-#include <Geom2dHatch_Hatcher.hxx>
-#include <Geom2dHatch_Intersector.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
@@ -26,8 +19,14 @@
 #include <Precision.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <gp_Dir2d.hxx>
 #include <gp_Pnt2d.hxx>
+#include <string>
 
 #include "isocam/errors.h"
 
@@ -66,12 +65,15 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
     Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(edge, face_, f, l);
     if (pc.IsNull()) throw GeometryError(label(face_label) + ": an edge has no p-curve");
     if (std::abs(l - f) <= Precision::PConfusion()) continue;
-    hatcher_->AddElement(Geom2dAdaptor_Curve(new Geom2d_TrimmedCurve(pc, f, l)), edge.Orientation());
+    hatcher_->AddElement(Geom2dAdaptor_Curve(new Geom2d_TrimmedCurve(pc, f, l)),
+                         edge.Orientation());
     add_boundary_boxes(*pc, f, l, range);
     if (!add_spans(pc, f, l)) spans_exact_ = false;
   }
   quad_.push_back({{fmin_[0] - 1e-9 * range, fmin_[1] - 1e-9 * range},
-                    {fmax_[0] + 1e-9 * range, fmax_[1] + 1e-9 * range}, RectClass::Boundary, -1});
+                   {fmax_[0] + 1e-9 * range, fmax_[1] + 1e-9 * range},
+                   RectClass::Boundary,
+                   -1});
   std::vector<int> all(boundary_.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   build_quadtree(0, all, 0);
@@ -105,7 +107,8 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
         table_f_[dir].push_back(f[static_cast<std::size_t>(k)]);
         if (k > 0) {
           const double gm = g0 + (g1 - g0) * (k - 0.5) / n;
-          const double lin = 0.5 * (f[static_cast<std::size_t>(k)] + f[static_cast<std::size_t>(k) - 1]);
+          const double lin =
+              0.5 * (f[static_cast<std::size_t>(k)] + f[static_cast<std::size_t>(k) - 1]);
           err = std::max(err, std::abs(near(to_face(dir, gm), lin) - lin));
         }
       }
@@ -122,15 +125,15 @@ void TrimDomain::add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, 
   for (int k = 1; k <= n; ++k) {
     const double ta = f + (l - f) * (k - 1) / n, tb = f + (l - f) * k / n;
     const gp_Pnt2d b = pc.Value(tb), m = pc.Value(0.5 * (ta + tb));
-    const double sag = 2.0 * m.Distance(gp_Pnt2d(0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y()))) +
-                       1e-9 * range;
+    const double sag =
+        2.0 * m.Distance(gp_Pnt2d(0.5 * (a.X() + b.X()), 0.5 * (a.Y() + b.Y()))) + 1e-9 * range;
     boundary_.push_back({{std::min(a.X(), b.X()) - sag, std::min(a.Y(), b.Y()) - sag},
                          {std::max(a.X(), b.X()) + sag, std::max(a.Y(), b.Y()) + sag}});
     a = b;
   }
 }
 
-bool TrimDomain::add_spans(const Handle(Geom2d_Curve)& pc, double f, double l) {
+bool TrimDomain::add_spans(const Handle(Geom2d_Curve) & pc, double f, double l) {
   Handle(Geom2d_Curve) basis = pc;
   if (auto t = Handle(Geom2d_TrimmedCurve)::DownCast(basis)) basis = t->BasisCurve();
   // Lines, conics, Bezier and B-spline curves have an exact (rational)
@@ -205,7 +208,8 @@ bool span_misses(const double* c, int n, const double lo[2], const double hi[2],
       r[3 * (n - s) + j] = w[3 * (n - s) + j];
     }
   }
-  return span_misses(l, n, lo, hi, depth + 1, budget) && span_misses(r, n, lo, hi, depth + 1, budget);
+  return span_misses(l, n, lo, hi, depth + 1, budget) &&
+         span_misses(r, n, lo, hi, depth + 1, budget);
 }
 
 }  // namespace
@@ -240,8 +244,7 @@ void TrimDomain::build_quadtree(int node, const std::vector<int>& boxes, int dep
       here.push_back(b);
   QuadNode& n = quad_[static_cast<std::size_t>(node)];
   if (here.empty()) {
-    const TopAbs_State st =
-        classify_point(0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1]));
+    const TopAbs_State st = classify_point(0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1]));
     n.state = rect_class(st);
     return;
   }
@@ -351,8 +354,8 @@ double TrimDomain::to_face(int dir, double g) const {
   if (grid_->same_params_as_face()) return g;
   // The NURBS form of an analytic surface maps each parameter on its own:
   // project a grid point onto the face's surface and read one coordinate.
-  const double other = dir == 0 ? 0.5 * (grid_->vmin() + grid_->vmax())
-                                : 0.5 * (grid_->umin() + grid_->umax());
+  const double other =
+      dir == 0 ? 0.5 * (grid_->vmin() + grid_->vmax()) : 0.5 * (grid_->umin() + grid_->umax());
   const gp_Pnt p = dir == 0 ? grid_->eval(g, other) : grid_->eval(other, g);
   GeomAPI_ProjectPointOnSurf proj(p, surface_, fmin_[0] - 1e-9, fmax_[0] + 1e-9, fmin_[1] - 1e-9,
                                   fmax_[1] + 1e-9);
@@ -370,7 +373,10 @@ double TrimDomain::to_grid(int dir, double f) const {
   const bool rising = to_face(dir, hi) >= to_face(dir, lo);
   for (int it = 0; it < 60 && hi - lo > 1e-13 * (1 + std::abs(hi)); ++it) {
     const double m = 0.5 * (lo + hi);
-    if ((to_face(dir, m) < f) == rising) lo = m; else hi = m;
+    if ((to_face(dir, m) < f) == rising)
+      lo = m;
+    else
+      hi = m;
   }
   return 0.5 * (lo + hi);
 }
@@ -393,7 +399,8 @@ std::vector<Interval> TrimDomain::inside(bool iso_v, double level, double t0, do
                       std::to_string(level));
 }
 
-bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1, std::vector<Interval>* out) const {
+bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1,
+                       std::vector<Interval>* out) const {
   const int run_dir = iso_v ? 0 : 1;
   Handle(Geom2d_Line) line = iso_v ? new Geom2d_Line(gp_Pnt2d(0, f), gp_Dir2d(1, 0))
                                    : new Geom2d_Line(gp_Pnt2d(f, 0), gp_Dir2d(0, 1));
@@ -417,7 +424,8 @@ bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1, std::vector<I
     }
   }
   hatcher_->RemHatching(h);
-  std::sort(out->begin(), out->end(), [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
+  std::sort(out->begin(), out->end(),
+            [](const Interval& x, const Interval& y) { return x.lo < y.lo; });
   return ok;
 }
 

@@ -5,15 +5,14 @@
 // OpenCASCADE's 2D hatcher on the edges' p-curves.
 #pragma once
 
-#include <memory>
-#include <array>
-#include <mutex>
-#include <unordered_map>
-#include <vector>
-
 #include <Geom_Surface.hxx>
 #include <TopAbs_State.hxx>
 #include <TopoDS_Face.hxx>
+#include <array>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
 
 #include "geometry/bernstein.h"
 #include "geometry/patch_grid.h"
@@ -65,7 +64,7 @@ class TrimDomain {
   void add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, double range);
   // Adds the p-curve on [f, l] as rational Bezier spans; false if it has no
   // exact Bezier form (an offset curve, a degree above the supported one).
-  bool add_spans(const Handle(Geom2d_Curve)& pc, double f, double l);
+  bool add_spans(const Handle(Geom2d_Curve) & pc, double f, double l);
   // True if no p-curve meets the closed face-parameter rectangle [lo, hi]
   // (proved on the spans' control hulls under subdivision); false if one
   // does or it could not be proved.
@@ -102,7 +101,7 @@ class TrimDomain {
   std::unique_ptr<std::mutex> classifier_lock_ = std::make_unique<std::mutex>();
   TopAbs_State classify_point(double fu, double fv) const;
   const PatchGrid* grid_;
-  std::vector<Box2> boundary_;          // boxes that contain the edges' p-curves
+  std::vector<Box2> boundary_;  // boxes that contain the edges' p-curves
   // The p-curves as rational Bezier spans: homogeneous control points
   // (x w, y w, w) at span_cps_[first ..], with the box of their hull.
   struct Span2 {

@@ -343,13 +343,13 @@ std::vector<Loop> resolve_loops(const std::vector<Loop>& loops, double snap) {
   if (segs.empty()) return {};
 
   VertexSet V(snap);
-  auto splits = split_points(segs, snap, V);                          // 1
+  auto splits = split_points(segs, snap, V);  // 1
   std::vector<Piece> pieces = cut_pieces(segs, splits, snap);
-  const Groups groups = group_coincident(segs, pieces, snap);         // 2
+  const Groups groups = group_coincident(segs, pieces, snap);              // 2
   BoundaryEdges b = boundary_edges(segs, pieces, groups, V, snap, scale);  // 3
-  std::vector<std::vector<int>> chains = chain_loops(b);             // 4
+  std::vector<std::vector<int>> chains = chain_loops(b);                   // 4
 
-  std::vector<Loop> result;                                           // 5
+  std::vector<Loop> result;  // 5
   for (auto& chain : chains) {
     Loop loop = merged_loop(chain, b.edges, pieces, segs, V);
     if (!negligible(loop, snap)) result.push_back(std::move(loop));

@@ -198,8 +198,8 @@ void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vec
   {
     // The tolerances against the region's extent (isocam/work_budget.h).
     const Box2 box = loops_box(region);
-    const double extent = std::max({box.size(), std::abs(box.x0), std::abs(box.y0),
-                                    std::abs(box.x1), std::abs(box.y1)});
+    const double extent = std::max(
+        {box.size(), std::abs(box.x0), std::abs(box.y0), std::abs(box.x1), std::abs(box.y1)});
     check_tolerance_ratio("floor_tolerance", p.floor_tolerance, extent);
     check_tolerance_ratio("scallop_height", p.scallop_height, extent);
   }

@@ -75,7 +75,8 @@ void check_params(const PocketParams& p, bool sculptured) {
 void check_depths(const std::vector<double>& depths, double safe_z) {
   if (depths.empty()) throw InvalidArgument("depths: at least one z level is needed");
   for (std::size_t i = 0; i < depths.size(); ++i) {
-    const std::string level = "depths: level " + std::to_string(i) + " = " + std::to_string(depths[i]);
+    const std::string level =
+        "depths: level " + std::to_string(i) + " = " + std::to_string(depths[i]);
     if (!std::isfinite(depths[i]) || std::abs(depths[i]) > 1e6)
       throw InvalidArgument(level + " is out of range: must be finite and within 1e6 mm of z = 0");
     if (i > 0 && !(depths[i] < depths[i - 1]))
@@ -88,7 +89,8 @@ void check_depths(const std::vector<double>& depths, double safe_z) {
 void check_plan_budget(const std::vector<Loop>& region, const PocketParams& p, std::size_t levels) {
   const Box2 box = loops_box(region);
   if (box.empty()) return;
-  const double far = std::max({std::abs(box.x0), std::abs(box.y0), std::abs(box.x1), std::abs(box.y1)});
+  const double far =
+      std::max({std::abs(box.x0), std::abs(box.y0), std::abs(box.x1), std::abs(box.y1)});
   const double extent = std::max(box.size(), far);
   check_tolerance_ratio("tolerance", p.tolerance, extent);
   check_tolerance_ratio("stepover", p.stepover, extent);

@@ -1,7 +1,6 @@
 #include "toolpath/linearize.h"
 
 #include <algorithm>
-
 #include <gp_Vec.hxx>
 
 namespace isocam {
@@ -26,8 +25,7 @@ struct Refiner {
     const gp_Pnt pm = f(tm);
     if (depth < 30) {
       const gp_Pnt q1 = f(0.5 * (ta + tm)), q3 = f(0.5 * (tm + tb));
-      const double dev = std::max({distance_to_segment(pm, pa, pb),
-                                   distance_to_segment(q1, pa, pb),
+      const double dev = std::max({distance_to_segment(pm, pa, pb), distance_to_segment(q1, pa, pb),
                                    distance_to_segment(q3, pa, pb)});
       // The chord's largest deviation need not fall on a quarter point: keep
       // a 10% margin so the tolerance holds between them too.
@@ -44,16 +42,16 @@ struct Refiner {
 
 }  // namespace
 
-std::vector<gp_Pnt> linearize(const std::function<gp_Pnt(double)>& f, double t0,
-                              double t1, double tol,
-                              const std::vector<double>& breaks, int min_pieces,
+std::vector<gp_Pnt> linearize(const std::function<gp_Pnt(double)>& f, double t0, double t1,
+                              double tol, const std::vector<double>& breaks, int min_pieces,
                               std::vector<double>* params) {
   std::vector<double> knots{t0};
   const double lo = std::min(t0, t1), hi = std::max(t0, t1);
   std::vector<double> inner;
   for (double b : breaks)
     if (b > lo + 1e-12 * (hi - lo) && b < hi - 1e-12 * (hi - lo)) inner.push_back(b);
-  std::sort(inner.begin(), inner.end(), [&](double a, double b) { return t1 >= t0 ? a < b : a > b; });
+  std::sort(inner.begin(), inner.end(),
+            [&](double a, double b) { return t1 >= t0 ? a < b : a > b; });
   knots.insert(knots.end(), inner.begin(), inner.end());
   knots.push_back(t1);
 

@@ -2,9 +2,8 @@
 #pragma once
 
 #include <functional>
-#include <vector>
-
 #include <gp_Pnt.hxx>
+#include <vector>
 
 namespace isocam {
 
@@ -14,10 +13,8 @@ namespace isocam {
 // curvature may jump) and into at least `min_pieces` pieces between them.
 // The first point is f(t0), the last f(t1); t1 < t0 walks backwards.
 // If `params` is given it receives the parameter of each point.
-std::vector<gp_Pnt> linearize(const std::function<gp_Pnt(double)>& f, double t0,
-                              double t1, double tol,
-                              const std::vector<double>& breaks,
-                              int min_pieces = 2,
+std::vector<gp_Pnt> linearize(const std::function<gp_Pnt(double)>& f, double t0, double t1,
+                              double tol, const std::vector<double>& breaks, int min_pieces = 2,
                               std::vector<double>* params = nullptr);
 
 }  // namespace isocam

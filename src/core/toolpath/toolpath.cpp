@@ -1,6 +1,6 @@
-#include <cmath>
-
 #include "isocam/toolpath.h"
+
+#include <cmath>
 
 namespace isocam {
 
@@ -22,7 +22,9 @@ PathLengths measure(const Toolpath& path) {
     const bool was_fed_lift = fed_lift;
     fed_lift = false;
     switch (static_cast<MoveKind>(path.kind[i])) {
-      case MoveKind::Feed: m.feed += len; break;
+      case MoveKind::Feed:
+        m.feed += len;
+        break;
       case MoveKind::Plunge:
         m.plunge += len;
         // A lift fed (near an overhang) counts as the retract; the rapid
@@ -32,12 +34,15 @@ PathLengths measure(const Toolpath& path) {
           fed_lift = true;
         }
         break;
-      case MoveKind::Ramp: m.ramp += len; break;
+      case MoveKind::Ramp:
+        m.ramp += len;
+        break;
       case MoveKind::Rapid:
         m.rapid += len;
         if (up && !was_fed_lift) ++m.retracts;
         break;
-      default: break;
+      default:
+        break;
     }
   }
   return m;

@@ -1,24 +1,23 @@
 #include "support/checks.h"
 
-#include <algorithm>
-#include <cmath>
-
-#include <BRepClass_FaceClassifier.hxx>
-#include <BRepTopAdaptor_FClass2d.hxx>
-#include <Bnd_Box.hxx>
 #include <BRepBndLib.hxx>
-#include <ShapeAnalysis_Surface.hxx>
-#include <TopoDS.hxx>
-#include <gp_Pnt2d.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <BRepTools.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_Surface.hxx>
+#include <ShapeAnalysis_Surface.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Tool.hxx>
-#include <Geom_Surface.hxx>
+#include <algorithm>
+#include <cmath>
+#include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
 
 #include "geometry/patch_grid.h"
@@ -34,8 +33,12 @@ std::int64_t SegmentIndex::key(long i, long j, long k) const {
 void SegmentIndex::add(const gp_Pnt& a, const gp_Pnt& b) {
   const std::size_t id = segs_.size();
   segs_.emplace_back(a, b);
-  auto lo = [&](double x, double y) { return static_cast<long>(std::floor(std::min(x, y) / cell_)); };
-  auto hi = [&](double x, double y) { return static_cast<long>(std::floor(std::max(x, y) / cell_)); };
+  auto lo = [&](double x, double y) {
+    return static_cast<long>(std::floor(std::min(x, y) / cell_));
+  };
+  auto hi = [&](double x, double y) {
+    return static_cast<long>(std::floor(std::max(x, y) / cell_));
+  };
   for (long i = lo(a.X(), b.X()); i <= hi(a.X(), b.X()); ++i)
     for (long j = lo(a.Y(), b.Y()); j <= hi(a.Y(), b.Y()); ++j)
       for (long k = lo(a.Z(), b.Z()); k <= hi(a.Z(), b.Z()); ++k) grid_[key(i, j, k)].push_back(id);
@@ -191,7 +194,8 @@ void ModelCloud::add_face(const TopoDS_Face& face, int n, bool trimmed) {
       pts_.push_back({q, f, u, v, near_wire});
       for (const auto& [a, b] : {std::pair<int, int>{i + 1, j}, {i, j + 1}})
         if (a <= n && b <= n)
-          max_step_ = std::max(max_step_, q.Distance(s.surf->Value(s.u1 + s.du * a, s.v1 + s.dv * b)));
+          max_step_ =
+              std::max(max_step_, q.Distance(s.surf->Value(s.u1 + s.du * a, s.v1 + s.dv * b)));
     }
   surfs_.push_back(s);
 }
@@ -203,7 +207,8 @@ void ModelCloud::index() {
   cell_ = std::max(1e-6, std::sqrt(box.SquareExtent()) / 50.0);
   for (std::size_t k = 0; k < pts_.size(); ++k) {
     const gp_Pnt& p = pts_[k].p;
-    grid_[key(static_cast<long>(std::floor(p.X() / cell_)), static_cast<long>(std::floor(p.Y() / cell_)),
+    grid_[key(static_cast<long>(std::floor(p.X() / cell_)),
+              static_cast<long>(std::floor(p.Y() / cell_)),
               static_cast<long>(std::floor(p.Z() / cell_)))]
         .push_back(k);
     columns_[key(static_cast<long>(std::floor(p.X() / cell_)),
@@ -214,7 +219,9 @@ void ModelCloud::index() {
 
 namespace {
 // The point of the vertical ray up from c nearest to p, and the distance.
-gp_Pnt on_ray(const gp_Pnt& c, const gp_Pnt& p) { return gp_Pnt(c.X(), c.Y(), std::max(c.Z(), p.Z())); }
+gp_Pnt on_ray(const gp_Pnt& c, const gp_Pnt& p) {
+  return gp_Pnt(c.X(), c.Y(), std::max(c.Z(), p.Z()));
+}
 }  // namespace
 
 double ModelCloud::column_distance(const gp_Pnt& c, double cap) const {
@@ -268,7 +275,8 @@ ModelCloud::Hit ModelCloud::nearest(const gp_Pnt& p, const std::vector<char>* on
     for (long i = ci - reach; i <= ci + reach; ++i)
       for (long j = cj - reach; j <= cj + reach; ++j)
         for (long k = ck - reach; k <= ck + reach; ++k) {
-          if (std::max({std::labs(i - ci), std::labs(j - cj), std::labs(k - ck)}) != reach) continue;
+          if (std::max({std::labs(i - ci), std::labs(j - cj), std::labs(k - ck)}) != reach)
+            continue;
           auto it = grid_.find(key(i, j, k));
           if (it == grid_.end()) continue;
           for (std::size_t id : it->second) {
@@ -321,7 +329,8 @@ ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist
       hit.point = x;
     }
     const double gu = su.Dot(d), gv = sv.Dot(d);
-    double a11 = su.Dot(su) + suu.Dot(d), a12 = su.Dot(sv) + suv.Dot(d), a22 = sv.Dot(sv) + svv.Dot(d);
+    double a11 = su.Dot(su) + suu.Dot(d), a12 = su.Dot(sv) + suv.Dot(d),
+           a22 = sv.Dot(sv) + svv.Dot(d);
     if (!(a11 > 0 && a11 * a22 - a12 * a12 > 0)) {
       a11 = su.Dot(su);
       a12 = su.Dot(sv);
@@ -331,7 +340,9 @@ ModelCloud::Hit ModelCloud::refine(const gp_Pnt& p, std::size_t arg, double dist
     if (!(det > 0)) break;
     const double stepu = (a22 * gu - a12 * gv) / det, stepv = (a11 * gv - a12 * gu) / det;
     const double nu = std::clamp(u - stepu, ulo, uhi), nv = std::clamp(v - stepv, vlo, vhi);
-    if (std::abs(nu - u) < 1e-12 * (s.u2 - s.u1 + 1) && std::abs(nv - v) < 1e-12 * (s.v2 - s.v1 + 1)) break;
+    if (std::abs(nu - u) < 1e-12 * (s.u2 - s.u1 + 1) &&
+        std::abs(nv - v) < 1e-12 * (s.v2 - s.v1 + 1))
+      break;
     u = nu;
     v = nv;
   }
@@ -373,9 +384,11 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
     centres.push_back(b);
     centres.push_back(gp_Pnt((a.XYZ() + b.XYZ()) * 0.5));
   }
-  const std::size_t stride = std::max<std::size_t>(1, centres.size() / static_cast<std::size_t>(checks));
+  const std::size_t stride =
+      std::max<std::size_t>(1, centres.size() / static_cast<std::size_t>(checks));
   double best = 1e300;
-  for (std::size_t i = 0; i < centres.size(); i += stride) best = std::min(best, face.distance(centres[i]));
+  for (std::size_t i = 0; i < centres.size(); i += stride)
+    best = std::min(best, face.distance(centres[i]));
   return best;
 }
 
@@ -482,7 +495,8 @@ WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<i
         out.closest_point = nearest.point;
         out.closest_face = nearest.face;
       }
-      for (const ModelCloud::Hit& h : model.nearest_per_face(c, touch + 2 * model.spacing(), &is_picked)) {
+      for (const ModelCloud::Hit& h :
+           model.nearest_per_face(c, touch + 2 * model.spacing(), &is_picked)) {
         if (h.distance > touch) continue;
         auto seen = last_seen.find(h.face);
         if (seen == last_seen.end() || seen->second != centre - 1) flush(h.face);
@@ -621,7 +635,8 @@ SegmentIndex feed_segments(const Toolpath& path, double cell) {
   SegmentIndex idx(cell);
   for (std::size_t i = 1; i < path.size(); ++i) {
     if (path.kind[i] != static_cast<std::uint8_t>(MoveKind::Feed)) continue;
-    idx.add(gp_Pnt(path.x[i - 1], path.y[i - 1], path.z[i - 1]), gp_Pnt(path.x[i], path.y[i], path.z[i]));
+    idx.add(gp_Pnt(path.x[i - 1], path.y[i - 1], path.z[i - 1]),
+            gp_Pnt(path.x[i], path.y[i], path.z[i]));
   }
   return idx;
 }

@@ -2,16 +2,15 @@
 // sense of Definition 1, no gouge, and that the path really cuts the curves.
 #pragma once
 
-#include <cstdint>
-#include <memory>
-#include <unordered_map>
-#include <vector>
-
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <cstdint>
 #include <gp_Pnt.hxx>
+#include <memory>
+#include <unordered_map>
+#include <vector>
 
 #include "isocam/adaptive_isocurve.h"
 
@@ -65,7 +64,8 @@ bool in_face(const TopoDS_Face& face, const gp_Pnt& p, double tol);
 // the model as the B-rep bounds it, not the untrimmed surfaces.
 class ModelCloud {
  public:
-  ModelCloud(const TopoDS_Face& face, int n) : ModelCloud(std::vector<TopoDS_Face>{face}, n, false) {}
+  ModelCloud(const TopoDS_Face& face, int n)
+      : ModelCloud(std::vector<TopoDS_Face>{face}, n, false) {}
   ModelCloud(const std::vector<TopoDS_Face>& faces, int n, bool trimmed);
   // Each face sampled n_f x n_f with n_f from its size: samples about
   // `spacing` apart along the larger side of its bounding box, n_f <= 600.
@@ -148,13 +148,13 @@ double min_centre_distance(const FaceCloud& face, const Toolpath& path, double r
 //    whichever is less: where the reach ends the core cuts the passes, and
 //    the border covers what is near it.
 struct WholeModelCheck {
-  double min_clearance = 1e300;  // smallest centre distance to the model
+  double min_clearance = 1e300;          // smallest centre distance to the model
   gp_Pnt closest_centre, closest_point;  // where: the ball centre, the model point
   int closest_face = -1;                 // and the point's face (index in the shape)
-  double max_gap = 0.0;          // largest sample-to-contact distance, reachable samples
-  gp_Pnt worst;                  // the sample where it is
-  int worst_face = -1;           // and its face (index in the shape)
-  std::vector<double> face_gap;  // max_gap of each picked face
+  double max_gap = 0.0;                  // largest sample-to-contact distance, reachable samples
+  gp_Pnt worst;                          // the sample where it is
+  int worst_face = -1;                   // and its face (index in the shape)
+  std::vector<double> face_gap;          // max_gap of each picked face
   int samples = 0, unreachable = 0;
 };
 WholeModelCheck check_whole_model(const TopoDS_Shape& shape, const std::vector<int>& picked,

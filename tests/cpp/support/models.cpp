@@ -1,31 +1,32 @@
 #include "support/models.h"
 
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <Bnd_Box.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
+#include <Standard_Failure.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
-#include <gp_Trsf.hxx>
-
-#include <BRepAlgoAPI_Fuse.hxx>
-#include <BRepBuilderAPI_MakePolygon.hxx>
-#include <BRepPrimAPI_MakeBox.hxx>
-#include <BRepPrimAPI_MakePrism.hxx>
-#include <BRepAdaptor_Surface.hxx>
-#include <BRepBndLib.hxx>
-#include <Bnd_Box.hxx>
-#include <GeomAPI_PointsToBSplineSurface.hxx>
-#include <ShapeUpgrade_UnifySameDomain.hxx>
-#include <Standard_Failure.hxx>
 #include <cmath>
+#include <gp_Trsf.hxx>
 #include <stdexcept>
 
 #include "isocam/brep_io.h"
 
 namespace isocam::test {
 
-std::string data_path(const std::string& name) { return std::string(ISOCAM_TEST_DATA) + "/" + name; }
+std::string data_path(const std::string& name) {
+  return std::string(ISOCAM_TEST_DATA) + "/" + name;
+}
 
 TopoDS_Shape load(const std::string& name) { return read_brep_file(data_path(name)); }
 
@@ -49,10 +50,18 @@ TopoDS_Face figure2_ruled_surface(bool creased) {
   }
   TColStd_Array1OfReal uk(1, 4), vk(1, 2);
   TColStd_Array1OfInteger um(1, 4), vm(1, 2);
-  uk(1) = 0; uk(2) = 1; uk(3) = 2; uk(4) = 3;
-  um(1) = 4; um(2) = 3; um(3) = 3; um(4) = 4;
-  vk(1) = 0; vk(2) = 1;
-  vm(1) = 2; vm(2) = 2;
+  uk(1) = 0;
+  uk(2) = 1;
+  uk(3) = 2;
+  uk(4) = 3;
+  um(1) = 4;
+  um(2) = 3;
+  um(3) = 3;
+  um(4) = 4;
+  vk(1) = 0;
+  vk(2) = 1;
+  vm(1) = 2;
+  vm(2) = 2;
   Handle(Geom_BSplineSurface) s = new Geom_BSplineSurface(poles, uk, vk, um, vm, 3, 1);
   return BRepBuilderAPI_MakeFace(s, 1e-7).Face();
 }
@@ -65,7 +74,8 @@ TopoDS_Shape house_on_the_hill() {
   for (int i = 1; i <= n; ++i)
     for (int j = 1; j <= n; ++j) {
       const double x = 150.0 * (i - 1) / (n - 1), y = 150.0 * (j - 1) / (n - 1);
-      const double bump = 25.0 * std::exp(-((x - 75) * (x - 75) + (y - 75) * (y - 75)) / (2 * 45.0 * 45.0));
+      const double bump =
+          25.0 * std::exp(-((x - 75) * (x - 75) + (y - 75) * (y - 75)) / (2 * 45.0 * 45.0));
       pts(i, j) = gp_Pnt(x, y, bump + 3.0 * std::sin(x / 25.0) * std::cos(y / 30.0));
     }
   GeomAPI_PointsToBSplineSurface fit(pts, 3, 3, GeomAbs_C2, 1e-3);
@@ -74,7 +84,8 @@ TopoDS_Shape house_on_the_hill() {
   // The house: walls from below the ground to z = 45 on the slope, and a
   // gable roof (a triangular prism) on them.
   const TopoDS_Shape walls = BRepPrimAPI_MakeBox(gp_Pnt(85, 55, 0), 40, 30, 45).Shape();
-  BRepBuilderAPI_MakePolygon gable(gp_Pnt(85, 55, 45), gp_Pnt(85, 85, 45), gp_Pnt(85, 70, 58), true);
+  BRepBuilderAPI_MakePolygon gable(gp_Pnt(85, 55, 45), gp_Pnt(85, 85, 45), gp_Pnt(85, 70, 58),
+                                   true);
   const TopoDS_Face gable_face = BRepBuilderAPI_MakeFace(gable.Wire(), true).Face();
   const TopoDS_Shape roof = BRepPrimAPI_MakePrism(gable_face, gp_Vec(40, 0, 0)).Shape();
   BRepAlgoAPI_Fuse house(walls, roof);

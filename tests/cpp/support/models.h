@@ -1,11 +1,10 @@
 // Test models: built in code, or read from tests/data.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <string>
+#include <vector>
 
 namespace isocam::test {
 

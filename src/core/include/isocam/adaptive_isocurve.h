@@ -55,10 +55,9 @@
 // protected, and the length reported as unreachable (material left there).
 #pragma once
 
+#include <TopoDS_Shape.hxx>
 #include <string>
 #include <vector>
-
-#include <TopoDS_Shape.hxx>
 
 #include "isocam/progress.h"
 #include "isocam/toolpath.h"
@@ -98,39 +97,39 @@ enum class IsoScallopBound {
 };
 
 struct IsoParams {
-  double ball_radius = 3.0;        // mm, > 0
+  double ball_radius = 3.0;  // mm, > 0
   // The two budgets (see "The guarantees" above): the most material left
   // above the design where the ball reaches, and the deepest cut below it.
-  double scallop_height = 0.01;     // mm, 0 < h < ball_radius
-  double overcut_tolerance = 0.005; // mm, gouge_tolerance + posted rounding < it < ball_radius
+  double scallop_height = 0.01;      // mm, 0 < h < ball_radius
+  double overcut_tolerance = 0.005;  // mm, gouge_tolerance + posted rounding < it < ball_radius
   // 0: derived from the budgets (min(overcut room, (h - posted) / 4)); > 0:
   // an override, which must fit both budgets (the certificate includes it).
-  double chord_tolerance = 0.0;     // mm, >= 0
+  double chord_tolerance = 0.0;  // mm, >= 0
   // The step of the coordinates the post-processor writes: 0.001 for 3
   // decimals (FreeCAD's linuxcnc post by default); 0 if it writes them
   // exactly. Each axis is rounded by up to half of it.
-  double posted_resolution = 0.001; // mm, >= 0, < 0.1
+  double posted_resolution = 0.001;  // mm, >= 0, < 0.1
   IsoDirection direction = IsoDirection::Auto;
   IsoPattern pattern = IsoPattern::Adaptive;
   IsoScallopBound scallop_bound = IsoScallopBound::Curvature;
   IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes only
-  double safe_z = 0.0;            // tool-tip z for retracts; must clear the path
+  double safe_z = 0.0;                           // tool-tip z for retracts; must clear the path
   // The gap kept between the ball and the model by rapid moves between
   // passes (hops), and the height above an entry point from which the
   // entry is fed: stock left thinner than this is safe from rapids.
-  double air_clearance = 1.0;     // mm, > 0
+  double air_clearance = 1.0;  // mm, > 0
   // Rates of the machine-time estimate (and of the choice between a feed
   // link and a hop): horizontal feed, vertical (pure-Z) feed, rapids.
-  double feed_rate = 1200.0;      // mm/min, > 0
-  double plunge_rate = 400.0;     // mm/min, > 0
-  double rapid_rate = 5000.0;     // mm/min, > 0
-  int max_depth = 30;             // recursion guard of Algorithm 1 (>= 1)
-  double gouge_tolerance = 0.001; // mm: accuracy of the global clearance check
+  double feed_rate = 1200.0;       // mm/min, > 0
+  double plunge_rate = 400.0;      // mm/min, > 0
+  double rapid_rate = 5000.0;      // mm/min, > 0
+  int max_depth = 30;              // recursion guard of Algorithm 1 (>= 1)
+  double gouge_tolerance = 0.001;  // mm: accuracy of the global clearance check
   // Keep the ball clear of the faces not picked too (the whole model; each
   // face trimmed to its wires exactly). Off: only the picked faces count.
   bool protect_unpicked_faces = true;
-  int threads = 0;                // faces computed in parallel; 0: one per core
-  double min_param_gap = 1e-9;    // relative to the face's parameter range (> 0)
+  int threads = 0;              // faces computed in parallel; 0: one per core
+  double min_param_gap = 1e-9;  // relative to the face's parameter range (> 0)
   // The work budget: a job whose estimated number of moves (from the faces'
   // area, the stepover and the chord length the chord tolerance allows)
   // exceeds it is refused before the work (isocam/work_budget.h).
@@ -157,15 +156,15 @@ struct IsoMetrics {
   // to 2 delta on concave ground, less than delta on convex ground): the
   // delta of Definition 1 that the coverage meets everywhere.
   double delta_max = 0.0;
-  double cutting_length = 0.0;    // feed moves (mm)
-  double rapid_length = 0.0;      // rapid moves (mm)
-  double plunge_length = 0.0;     // fed entries: plunges (vertical feed) and ramps (mm)
+  double cutting_length = 0.0;  // feed moves (mm)
+  double rapid_length = 0.0;    // rapid moves (mm)
+  double plunge_length = 0.0;   // fed entries: plunges (vertical feed) and ramps (mm)
   // Estimated with the rates of IsoParams (s): every move, the first (from
   // wherever the machine is) excepted; and the feed moves alone (the passes
   // and the links along the surface, not the entries).
   double machine_time = 0.0;
   double cutting_time = 0.0;
-  double chord_tolerance = 0.0;   // the chord tolerance used (derived or the override)
+  double chord_tolerance = 0.0;  // the chord tolerance used (derived or the override)
   int sub_isocurves = 0;
   int retracts = 0;
   double max_iso_distance = 0.0;  // largest iso-distance left between adjacent curves
@@ -199,9 +198,9 @@ struct IsoMetrics {
 struct IsoResult {
   Toolpath path;
   IsoMetrics metrics;
-  std::vector<SubIsocurve> curves;        // the coverage, in machining order
-  std::vector<IsoDirection> face_direction;  // direction used per picked face
-  std::vector<std::string> warnings;         // e.g. a face that could not be protected
+  std::vector<SubIsocurve> curves;               // the coverage, in machining order
+  std::vector<IsoDirection> face_direction;      // direction used per picked face
+  std::vector<std::string> warnings;             // e.g. a face that could not be protected
   IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes: the axis used (X or Y)
 };
 
@@ -258,9 +257,7 @@ double scallop_for_stepover(double ball_radius, double delta);
 // Throws InvalidArgument for bad parameters, an out-of-range or duplicate
 // face index, or an empty shape; GeometryError for a degenerate face or when
 // the recursion guards trip; Cancelled if progress->cancel_requested.
-IsoResult adaptive_isocurve(const TopoDS_Shape& shape,
-                            const std::vector<int>& faces,
-                            const IsoParams& params,
-                            Progress* progress = nullptr);
+IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
+                            const IsoParams& params, Progress* progress = nullptr);
 
 }  // namespace isocam

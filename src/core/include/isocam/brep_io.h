@@ -4,11 +4,10 @@
 // (FaceN == index N-1).
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <string>
+#include <vector>
 
 namespace isocam {
 

@@ -13,7 +13,7 @@ enum class MoveKind : std::uint8_t {
   Feed = 1,    // G1 at horizontal feed (cutting and linking moves)
   Plunge = 2,  // G1 at vertical feed: the fed part of an entry, straight down (or along the normal)
   // 3 and 4 are the pocketing's arcs (isocam/pocketing.h).
-  Ramp = 5,    // G1 at horizontal feed: the fed part of an entry, a ramp down along the pass
+  Ramp = 5,  // G1 at horizontal feed: the fed part of an entry, a ramp down along the pass
 };
 
 // Move i goes from the end of move i-1 (the machine's position before the
@@ -40,7 +40,8 @@ struct PathLengths {
   double rapid = 0.0;
   double plunge = 0.0;
   double ramp = 0.0;
-  int retracts = 0;  // lifts: moves straight up, rapid or fed (a fed lift and the rapid on top of it count once)
+  int retracts = 0;  // lifts: moves straight up, rapid or fed (a fed lift and the rapid on top of
+                     // it count once)
 };
 PathLengths measure(const Toolpath& path);
 
