@@ -206,19 +206,28 @@ _OUTPUTS = (
         "App::PropertyLength",
         "GuaranteedScallop",
         "guaranteed_scallop",
-        QT_TRANSLATE_NOOP("App::Property", "Measured cusp between adjacent paths plus the positions' error (<= ScallopHeight)"),
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Measured cusp between adjacent paths plus the positions' error (<= ScallopHeight)",
+        ),
     ),
     (
         "App::PropertyLength",
         "GuaranteedOvercut",
         "guaranteed_overcut",
-        QT_TRANSLATE_NOOP("App::Property", "Deepest cut below the picked faces: chord + posted rounding + axis step + gouge check"),
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Deepest cut below the picked faces: chord + posted rounding + axis step + gouge check",
+        ),
     ),
     (
         "App::PropertyLength",
         "UnreachableLength",
         "unreachable_length",
-        QT_TRANSLATE_NOOP("App::Property", "Path left out: gouge even at MaxLeadAngle, shank against the model, A out of range"),
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Path left out: gouge even at MaxLeadAngle, shank against the model, A out of range",
+        ),
     ),
     (
         "App::PropertyFloat",
@@ -242,7 +251,10 @@ _OUTPUTS = (
         "App::PropertyFloat",
         "MachineTime",
         "machine_time",
-        QT_TRANSLATE_NOOP("App::Property", "Estimated time (s) of the tip moves at the feeds and RapidRate (rotary moves not timed)"),
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Estimated time (s) of the tip moves at the feeds and RapidRate (rotary moves not timed)",
+        ),
     ),
 )
 
@@ -261,6 +273,7 @@ _ARGUMENT_SOURCES = (
     ("safe_z", "property SafeHeight"),
 )
 
+
 def is_flat_end(tool):
     """True if FreeCAD describes `tool` as a flat end mill."""
     return compat.is_flat_end(tool)
@@ -274,7 +287,12 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
     ENUMERATIONS = _ENUMERATIONS
 
     def opFeatures(self, obj):
-        return PathOp.FeatureTool | PathOp.FeatureHeights | PathOp.FeatureBaseFaces | PathOp.FeatureCoolant
+        return (
+            PathOp.FeatureTool
+            | PathOp.FeatureHeights
+            | PathOp.FeatureBaseFaces
+            | PathOp.FeatureCoolant
+        )
 
     def opPropertyDefinitions(self):
         return [(prop_type, name, _GROUP, tip) for prop_type, name, tip in _DEFINITIONS]
@@ -299,23 +317,38 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         a0, c0 = (float(v) for v in first.ac[0])
         x0, y0 = (float(v) for v in first.xyz[0][:2])
         self.commandlist.append(Path.Command("G0", {"Z": clearance}))
-        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance, "A": a0, "C": c0}))
+        self.commandlist.append(
+            Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance, "A": a0, "C": c0})
+        )
         for res in results:
             self.commandlist.extend(commands_from_moves(res, self.horizFeed, self.vertFeed))
         metrics = _combined(results)
         final = [Path.Command("G0", {"Z": clearance})]
-        metrics["machine_time"] = machine_seconds(self.commandlist + final, float(obj.RapidRate), *_feeds(obj))
+        metrics["machine_time"] = machine_seconds(
+            self.commandlist + final, float(obj.RapidRate), *_feeds(obj)
+        )
         op_base.write_outputs(obj, _OUTPUTS, metrics)
         log.info(
             "IsoCAM %s: %d paths, strip %.3f mm on flat ground, cutting %.1f mm, rapid %.1f mm, "
             "guaranteed scallop %.5f mm (requested %.5f), guaranteed overcut %.5f mm, "
             "lead up to %.1f deg, rotary travel A %.0f deg C %.0f deg, unreachable %.1f mm, "
             "machine time %.1f min; %.2f s\n"
-            % (obj.Label, metrics["paths"], metrics["flat_strip_width"], metrics["cutting_length"],
-               metrics["rapid_length"], metrics["guaranteed_scallop"], obj.ScallopHeight.Value,
-               metrics["guaranteed_overcut"], metrics["max_lead_used"], metrics["rotary_travel_a"],
-               metrics["rotary_travel_c"], metrics["unreachable_length"],
-               metrics["machine_time"] / 60.0, time.monotonic() - started)
+            % (
+                obj.Label,
+                metrics["paths"],
+                metrics["flat_strip_width"],
+                metrics["cutting_length"],
+                metrics["rapid_length"],
+                metrics["guaranteed_scallop"],
+                obj.ScallopHeight.Value,
+                metrics["guaranteed_overcut"],
+                metrics["max_lead_used"],
+                metrics["rotary_travel_a"],
+                metrics["rotary_travel_c"],
+                metrics["unreachable_length"],
+                metrics["machine_time"] / 60.0,
+                time.monotonic() - started,
+            )
         )
         for res in results:
             for warning in res.warnings:
@@ -328,9 +361,14 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
             raise IsoCAMError(
                 "tool '%s' of tool controller '%s' is not a flat end mill (its shape is '%s'); "
                 "5-Axis Strip Finish needs a flat-end tool (ToolBit shape endmill.fcstd)%s"
-                % (compat.tool_label(tool), tc.Label, compat.tool_shape(tool) or "unknown",
-                   "; a ball end has no flat bottom to tilt: use Adaptive Isocurve for it"
-                   if compat.is_ball_end(tool) else "")
+                % (
+                    compat.tool_label(tool),
+                    tc.Label,
+                    compat.tool_shape(tool) or "unknown",
+                    "; a ball end has no flat bottom to tilt: use Adaptive Isocurve for it"
+                    if compat.is_ball_end(tool)
+                    else "",
+                )
             )
         picked = picked_faces(obj)
         if not picked:
@@ -378,7 +416,7 @@ def _params(obj, core, radius):
     p.protect_unpicked_faces = bool(obj.ProtectModel)
     if not 0 <= obj.PostPrecision <= 9:
         raise IsoCAMError("PostPrecision must be 0..9 decimals (got %d)" % obj.PostPrecision)
-    p.posted_resolution = 10.0 ** -obj.PostPrecision
+    p.posted_resolution = 10.0**-obj.PostPrecision
     p.air_clearance = obj.AirClearance.Value
     p.feed_rate, p.plunge_rate = _feeds(obj)
     p.rapid_rate = float(obj.RapidRate)
@@ -389,12 +427,23 @@ def _params(obj, core, radius):
 
 def _combined(results):
     out = {}
-    for attr in ("cutting_length", "rapid_length", "machine_time", "unreachable_length",
-                 "rotary_travel_a", "rotary_travel_c"):
+    for attr in (
+        "cutting_length",
+        "rapid_length",
+        "machine_time",
+        "unreachable_length",
+        "rotary_travel_a",
+        "rotary_travel_c",
+    ):
         out[attr] = sum(getattr(r.metrics, attr) for r in results)
     out["paths"] = sum(int(r.metrics.paths) for r in results)
-    for attr in ("flat_strip_width", "max_spacing", "guaranteed_scallop", "guaranteed_overcut",
-                 "max_lead_used"):
+    for attr in (
+        "flat_strip_width",
+        "max_spacing",
+        "guaranteed_scallop",
+        "guaranteed_overcut",
+        "max_lead_used",
+    ):
         out[attr] = max(getattr(r.metrics, attr) for r in results)
     return out
 
@@ -417,8 +466,18 @@ def commands_from_moves(res, horiz_feed, vert_feed):
 
 
 def SetupProperties():
-    return ["ScallopHeight", "LeadAngle", "TiltAngle", "MaxLeadAngle", "AMin", "AMax",
-            "ToolLength", "Direction", "AirClearance", "RapidRate"]
+    return [
+        "ScallopHeight",
+        "LeadAngle",
+        "TiltAngle",
+        "MaxLeadAngle",
+        "AMin",
+        "AMax",
+        "ToolLength",
+        "Direction",
+        "AirClearance",
+        "RapidRate",
+    ]
 
 
 def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
@@ -427,7 +486,11 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     `toolController`: a flat-end tool controller to use (headless FreeCAD
     cannot choose among several)."""
     return op_base.create_op(
-        ObjectFiveAxisStripFinish, name, obj, parentJob, toolController,
+        ObjectFiveAxisStripFinish,
+        name,
+        obj,
+        parentJob,
+        toolController,
         "the Job has no flat-end tool controller; add one (ToolBit shape endmill.fcstd) "
         "or pass toolController=",
     )
