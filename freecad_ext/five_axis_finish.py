@@ -26,16 +26,16 @@ Errors follow the other IsoCAM ops: the message names the property or tool,
 the op's Path is emptied and the op is marked invalid.
 """
 
-import threading
 import time
 
-import FreeCAD
 import Path
 
 from freecad_ext import compat, op_base
 from freecad_ext.adaptive_isocurve import machine_seconds
-from freecad_ext.compat import PathOp
+from freecad_ext.compat import QT_TRANSLATE_NOOP, PathOp, translate
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
+
+log = compat.logger(__name__)
 
 __title__ = "IsoCAM 5-Axis Strip Finish operation"
 
@@ -52,53 +52,211 @@ HEADER = (
 )
 
 _GROUP = "5-Axis Strip Finish"
-_INPUTS = (
-    ("App::PropertyLength", "ScallopHeight", _GROUP,
-     "Largest scallop height left between adjacent passes; sets the strip width.", 0.01),
-    ("App::PropertyAngle", "LeadAngle", _GROUP,
-     "Tilt of the tool axis from the surface normal towards the feed (degrees, > 0). "
-     "Smaller: wider strips; the core raises it where concave ground needs more.", 5.0),
-    ("App::PropertyAngle", "TiltAngle", _GROUP,
-     "Tilt of the tool axis across the feed (degrees), e.g. to reach past a wall.", 0.0),
-    ("App::PropertyAngle", "MaxLeadAngle", _GROUP,
-     "The most the lead may be raised to keep the flat bottom off concave ground.", 45.0),
-    ("App::PropertyAngle", "AMin", _GROUP, "Lowest A of the machine (degrees).", 0.0),
-    ("App::PropertyAngle", "AMax", _GROUP, "Highest A of the machine (degrees).", 90.0),
-    ("App::PropertyLength", "ToolLength", _GROUP,
-     "Length of the tool above the tip kept clear of the model (shank and holder "
-     "as a cylinder of the tool's diameter).", 30.0),
-    ("App::PropertyEnumeration", "Direction", _GROUP,
-     "Start path: V (the face's v = vmin boundary), U (u = umin), or Auto (the "
-     "shorter paths per face).", "Auto"),
-    ("App::PropertyBool", "ProtectModel", _GROUP,
-     "Keep the shank clear of every face of the model, not only the picked ones.", True),
-    ("App::PropertyInteger", "PostPrecision", _GROUP,
-     "Decimals of the coordinates the post-processor writes (linuxcnc: 3).", 3),
-    ("App::PropertyLength", "AirClearance", _GROUP,
-     "Approach and retract distance along the tool axis.", 1.0),
-    ("App::PropertyFloat", "RapidRate", _GROUP, "Rapid rate in mm/min for MachineTime.", 5000.0),
+
+# (type, name, tip) of the inputs, all in _GROUP.
+_DEFINITIONS = (
+    (
+        "App::PropertyLength",
+        "ScallopHeight",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Largest scallop height left between adjacent passes; sets the strip width.",
+        ),
+    ),
+    (
+        "App::PropertyAngle",
+        "LeadAngle",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Tilt of the tool axis from the surface normal towards the feed (degrees, > 0). "
+            "Smaller: wider strips; the core raises it where concave ground needs more.",
+        ),
+    ),
+    (
+        "App::PropertyAngle",
+        "TiltAngle",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Tilt of the tool axis across the feed (degrees), e.g. to reach past a wall.",
+        ),
+    ),
+    (
+        "App::PropertyAngle",
+        "MaxLeadAngle",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "The most the lead may be raised to keep the flat bottom off concave ground.",
+        ),
+    ),
+    (
+        "App::PropertyAngle",
+        "AMin",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Lowest A of the machine (degrees).",
+        ),
+    ),
+    (
+        "App::PropertyAngle",
+        "AMax",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Highest A of the machine (degrees).",
+        ),
+    ),
+    (
+        "App::PropertyLength",
+        "ToolLength",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Length of the tool above the tip kept clear of the model (shank and holder as "
+            "a cylinder of the tool's diameter).",
+        ),
+    ),
+    (
+        "App::PropertyEnumeration",
+        "Direction",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Start path: V (the face's v = vmin boundary), U (u = umin), or Auto (the "
+            "shorter paths per face).",
+        ),
+    ),
+    (
+        "App::PropertyBool",
+        "ProtectModel",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Keep the shank clear of every face of the model, not only the picked ones.",
+        ),
+    ),
+    (
+        "App::PropertyInteger",
+        "PostPrecision",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Decimals of the coordinates the post-processor writes (linuxcnc: 3).",
+        ),
+    ),
+    (
+        "App::PropertyLength",
+        "AirClearance",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Approach and retract distance along the tool axis.",
+        ),
+    ),
+    (
+        "App::PropertyFloat",
+        "RapidRate",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Rapid rate in mm/min for MachineTime.",
+        ),
+    ),
 )
 
+_DEFAULTS = {
+    "ScallopHeight": 0.01,
+    "LeadAngle": 5.0,
+    "TiltAngle": 0.0,
+    "MaxLeadAngle": 45.0,
+    "AMin": 0.0,
+    "AMax": 90.0,
+    "ToolLength": 30.0,
+    "Direction": "Auto",
+    "ProtectModel": True,
+    "PostPrecision": 3,
+    "AirClearance": 1.0,
+    "RapidRate": 5000.0,
+}
+
 _OUTPUTS = (
-    ("App::PropertyLength", "CuttingLength", "cutting_length", "Length of the feed moves (tip)"),
-    ("App::PropertyLength", "RapidLength", "rapid_length", "Length of the rapid moves (tip)"),
-    ("App::PropertyInteger", "Passes", "paths", "Number of paths traced"),
-    ("App::PropertyLength", "StripWidth", "flat_strip_width",
-     "Strip width on flat ground at LeadAngle (2 x_h)"),
-    ("App::PropertyLength", "MaxSpacing", "max_spacing", "Largest measured distance between adjacent paths"),
-    ("App::PropertyLength", "GuaranteedScallop", "guaranteed_scallop",
-     "Measured cusp between adjacent paths plus the positions' error (<= ScallopHeight)"),
-    ("App::PropertyLength", "GuaranteedOvercut", "guaranteed_overcut",
-     "Deepest cut below the picked faces: chord + posted rounding + axis step + gouge check"),
-    ("App::PropertyLength", "UnreachableLength", "unreachable_length",
-     "Path left out: gouge even at MaxLeadAngle, shank against the model, A out of range"),
-    ("App::PropertyFloat", "MaxLeadUsed", "max_lead_used", "Largest lead angle used (degrees)"),
-    ("App::PropertyFloat", "RotaryTravelA", "rotary_travel_a", "Sum of |dA| over all moves (degrees)"),
-    ("App::PropertyFloat", "RotaryTravelC", "rotary_travel_c", "Sum of |dC| over all moves (degrees)"),
-    ("App::PropertyFloat", "MachineTime", "machine_time",
-     "Estimated time (s) of the tip moves at the feeds and RapidRate (rotary moves not timed)"),
+    (
+        "App::PropertyLength",
+        "CuttingLength",
+        "cutting_length",
+        QT_TRANSLATE_NOOP("App::Property", "Length of the feed moves (tip)"),
+    ),
+    (
+        "App::PropertyLength",
+        "RapidLength",
+        "rapid_length",
+        QT_TRANSLATE_NOOP("App::Property", "Length of the rapid moves (tip)"),
+    ),
+    (
+        "App::PropertyInteger",
+        "Passes",
+        "paths",
+        QT_TRANSLATE_NOOP("App::Property", "Number of paths traced"),
+    ),
+    (
+        "App::PropertyLength",
+        "StripWidth",
+        "flat_strip_width",
+        QT_TRANSLATE_NOOP("App::Property", "Strip width on flat ground at LeadAngle (2 x_h)"),
+    ),
+    (
+        "App::PropertyLength",
+        "MaxSpacing",
+        "max_spacing",
+        QT_TRANSLATE_NOOP("App::Property", "Largest measured distance between adjacent paths"),
+    ),
+    (
+        "App::PropertyLength",
+        "GuaranteedScallop",
+        "guaranteed_scallop",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Measured cusp between adjacent paths plus the positions' error (<= ScallopHeight)",
+        ),
+    ),
+    (
+        "App::PropertyLength",
+        "GuaranteedOvercut",
+        "guaranteed_overcut",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Deepest cut below the picked faces: chord + posted rounding + axis step + gouge check",
+        ),
+    ),
+    (
+        "App::PropertyLength",
+        "UnreachableLength",
+        "unreachable_length",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Path left out: gouge even at MaxLeadAngle, shank against the model, A out of range",
+        ),
+    ),
+    (
+        "App::PropertyFloat",
+        "MaxLeadUsed",
+        "max_lead_used",
+        QT_TRANSLATE_NOOP("App::Property", "Largest lead angle used (degrees)"),
+    ),
+    (
+        "App::PropertyFloat",
+        "RotaryTravelA",
+        "rotary_travel_a",
+        QT_TRANSLATE_NOOP("App::Property", "Sum of |dA| over all moves (degrees)"),
+    ),
+    (
+        "App::PropertyFloat",
+        "RotaryTravelC",
+        "rotary_travel_c",
+        QT_TRANSLATE_NOOP("App::Property", "Sum of |dC| over all moves (degrees)"),
+    ),
+    (
+        "App::PropertyFloat",
+        "MachineTime",
+        "machine_time",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Estimated time (s) of the tip moves at the feeds and RapidRate (rotary moves not timed)",
+        ),
+    ),
 )
-_OUTPUT_GROUP = "Certificate"
 
 _ARGUMENT_SOURCES = (
     ("scallop_height", "property ScallopHeight"),
@@ -115,6 +273,7 @@ _ARGUMENT_SOURCES = (
     ("safe_z", "property SafeHeight"),
 )
 
+
 def is_flat_end(tool):
     """True if FreeCAD describes `tool` as a flat end mill."""
     return compat.is_flat_end(tool)
@@ -125,23 +284,21 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
 
     OUTPUTS = _OUTPUTS
     ARGUMENT_SOURCES = _ARGUMENT_SOURCES
+    ENUMERATIONS = _ENUMERATIONS
 
     def opFeatures(self, obj):
-        return PathOp.FeatureTool | PathOp.FeatureHeights | PathOp.FeatureBaseFaces | PathOp.FeatureCoolant
+        return (
+            PathOp.FeatureTool
+            | PathOp.FeatureHeights
+            | PathOp.FeatureBaseFaces
+            | PathOp.FeatureCoolant
+        )
 
-    def add_properties(self, obj):
-        for prop_type, name, group, tip, default in _INPUTS:
-            if not hasattr(obj, name):
-                obj.addProperty(prop_type, name, group, tip)
-                if name in _ENUMERATIONS:
-                    setattr(obj, name, list(_ENUMERATIONS[name]))
-                setattr(obj, name, default)
-        for prop_type, name, _attr, tip in _OUTPUTS:
-            if not hasattr(obj, name):
-                obj.addProperty(prop_type, name, _OUTPUT_GROUP, tip)
-            obj.setEditorMode(name, 1)
-            if hasattr(obj, "setPropertyStatus"):
-                obj.setPropertyStatus(name, ["ReadOnly", "Output"])
+    def opPropertyDefinitions(self):
+        return [(prop_type, name, _GROUP, tip) for prop_type, name, tip in _DEFINITIONS]
+
+    def opPropertyDefaults(self, obj, job):
+        return dict(_DEFAULTS)
 
     def accepts_tool(self, tool):
         return is_flat_end(tool)
@@ -160,28 +317,42 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         a0, c0 = (float(v) for v in first.ac[0])
         x0, y0 = (float(v) for v in first.xyz[0][:2])
         self.commandlist.append(Path.Command("G0", {"Z": clearance}))
-        self.commandlist.append(Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance, "A": a0, "C": c0}))
+        self.commandlist.append(
+            Path.Command("G0", {"X": x0, "Y": y0, "Z": clearance, "A": a0, "C": c0})
+        )
         for res in results:
             self.commandlist.extend(commands_from_moves(res, self.horizFeed, self.vertFeed))
         metrics = _combined(results)
         final = [Path.Command("G0", {"Z": clearance})]
-        metrics["machine_time"] = machine_seconds(self.commandlist + final, float(obj.RapidRate), *_feeds(obj))
-        for _type, name, attr, _tip in _OUTPUTS:
-            setattr(obj, name, metrics[attr])
-        FreeCAD.Console.PrintMessage(
+        metrics["machine_time"] = machine_seconds(
+            self.commandlist + final, float(obj.RapidRate), *_feeds(obj)
+        )
+        op_base.write_outputs(obj, _OUTPUTS, metrics)
+        log.info(
             "IsoCAM %s: %d paths, strip %.3f mm on flat ground, cutting %.1f mm, rapid %.1f mm, "
             "guaranteed scallop %.5f mm (requested %.5f), guaranteed overcut %.5f mm, "
             "lead up to %.1f deg, rotary travel A %.0f deg C %.0f deg, unreachable %.1f mm, "
             "machine time %.1f min; %.2f s\n"
-            % (obj.Label, metrics["paths"], metrics["flat_strip_width"], metrics["cutting_length"],
-               metrics["rapid_length"], metrics["guaranteed_scallop"], obj.ScallopHeight.Value,
-               metrics["guaranteed_overcut"], metrics["max_lead_used"], metrics["rotary_travel_a"],
-               metrics["rotary_travel_c"], metrics["unreachable_length"],
-               metrics["machine_time"] / 60.0, time.monotonic() - started)
+            % (
+                obj.Label,
+                metrics["paths"],
+                metrics["flat_strip_width"],
+                metrics["cutting_length"],
+                metrics["rapid_length"],
+                metrics["guaranteed_scallop"],
+                obj.ScallopHeight.Value,
+                metrics["guaranteed_overcut"],
+                metrics["max_lead_used"],
+                metrics["rotary_travel_a"],
+                metrics["rotary_travel_c"],
+                metrics["unreachable_length"],
+                metrics["machine_time"] / 60.0,
+                time.monotonic() - started,
+            )
         )
         for res in results:
             for warning in res.warnings:
-                op_base.PathLog.warning("%s: %s" % (obj.Label, warning))
+                log.warning("%s: %s" % (obj.Label, warning))
 
     def _compute(self, obj, core):
         tc = obj.ToolController
@@ -190,9 +361,14 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
             raise IsoCAMError(
                 "tool '%s' of tool controller '%s' is not a flat end mill (its shape is '%s'); "
                 "5-Axis Strip Finish needs a flat-end tool (ToolBit shape endmill.fcstd)%s"
-                % (compat.tool_label(tool), tc.Label, compat.tool_shape(tool) or "unknown",
-                   "; a ball end has no flat bottom to tilt: use Adaptive Isocurve for it"
-                   if compat.is_ball_end(tool) else "")
+                % (
+                    compat.tool_label(tool),
+                    tc.Label,
+                    compat.tool_shape(tool) or "unknown",
+                    "; a ball end has no flat bottom to tilt: use Adaptive Isocurve for it"
+                    if compat.is_ball_end(tool)
+                    else "",
+                )
             )
         picked = picked_faces(obj)
         if not picked:
@@ -208,33 +384,15 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         return results
 
     def _run_core(self, core, brep, faces, params, base):
-        progress = core.Progress()
-        outcome = {}
+        def call(progress):
+            return core.five_axis_finish(brep, faces, params, progress)
 
-        def work():
-            try:
-                outcome["result"] = core.five_axis_finish(brep, faces, params, progress)
-            except BaseException as exc:  # handed to the calling thread
-                outcome["error"] = exc
-
-        worker = threading.Thread(target=work, name="isocam-five-axis")
-        self.active_progress = progress
         try:
-            worker.start()
-            if FreeCAD.GuiUp:
-                from freecad_ext.gui import progress as gui_progress
-
-                gui_progress.wait(worker, progress, "5-axis strip finish")
-            else:
-                worker.join()
-        finally:
-            self.active_progress = None
-        if "error" in outcome:
-            exc = outcome["error"]
-            if isinstance(exc, RuntimeError) and not isinstance(exc, core.CancelledError):
-                raise RuntimeError("%s (model %s)" % (exc, base.Label)) from exc
-            raise exc
-        return outcome["result"]
+            return self.run_core(core, call, translate("IsoCAM", "5-axis strip finish"))
+        except core.CancelledError:
+            raise
+        except RuntimeError as exc:
+            raise RuntimeError("%s (model %s)" % (exc, base.Label)) from exc
 
 
 def _feeds(obj):
@@ -258,7 +416,7 @@ def _params(obj, core, radius):
     p.protect_unpicked_faces = bool(obj.ProtectModel)
     if not 0 <= obj.PostPrecision <= 9:
         raise IsoCAMError("PostPrecision must be 0..9 decimals (got %d)" % obj.PostPrecision)
-    p.posted_resolution = 10.0 ** -obj.PostPrecision
+    p.posted_resolution = 10.0**-obj.PostPrecision
     p.air_clearance = obj.AirClearance.Value
     p.feed_rate, p.plunge_rate = _feeds(obj)
     p.rapid_rate = float(obj.RapidRate)
@@ -269,12 +427,23 @@ def _params(obj, core, radius):
 
 def _combined(results):
     out = {}
-    for attr in ("cutting_length", "rapid_length", "machine_time", "unreachable_length",
-                 "rotary_travel_a", "rotary_travel_c"):
+    for attr in (
+        "cutting_length",
+        "rapid_length",
+        "machine_time",
+        "unreachable_length",
+        "rotary_travel_a",
+        "rotary_travel_c",
+    ):
         out[attr] = sum(getattr(r.metrics, attr) for r in results)
     out["paths"] = sum(int(r.metrics.paths) for r in results)
-    for attr in ("flat_strip_width", "max_spacing", "guaranteed_scallop", "guaranteed_overcut",
-                 "max_lead_used"):
+    for attr in (
+        "flat_strip_width",
+        "max_spacing",
+        "guaranteed_scallop",
+        "guaranteed_overcut",
+        "max_lead_used",
+    ):
         out[attr] = max(getattr(r.metrics, attr) for r in results)
     return out
 
@@ -297,8 +466,18 @@ def commands_from_moves(res, horiz_feed, vert_feed):
 
 
 def SetupProperties():
-    return ["ScallopHeight", "LeadAngle", "TiltAngle", "MaxLeadAngle", "AMin", "AMax",
-            "ToolLength", "Direction", "AirClearance", "RapidRate"]
+    return [
+        "ScallopHeight",
+        "LeadAngle",
+        "TiltAngle",
+        "MaxLeadAngle",
+        "AMin",
+        "AMax",
+        "ToolLength",
+        "Direction",
+        "AirClearance",
+        "RapidRate",
+    ]
 
 
 def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
@@ -307,7 +486,11 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     `toolController`: a flat-end tool controller to use (headless FreeCAD
     cannot choose among several)."""
     return op_base.create_op(
-        ObjectFiveAxisStripFinish, name, obj, parentJob, toolController,
+        ObjectFiveAxisStripFinish,
+        name,
+        obj,
+        parentJob,
+        toolController,
         "the Job has no flat-end tool controller; add one (ToolBit shape endmill.fcstd) "
         "or pass toolController=",
     )

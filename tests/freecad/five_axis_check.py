@@ -157,7 +157,7 @@ def measure(points, normals, tips, axes, radius, length, reach=None):
             continue
         group = order[start:i]
         start = i
-        centre = (sk[group[0]] + 0.5) * cell
+        centre = (skeys[group[0]] + 0.5) * cell  # (group holds indices of points)
         near_cell = np.linalg.norm(tips - centre, axis=1) <= reach + cell * math.sqrt(3) / 2
         cand = np.nonzero(near_cell)[0]
         if len(cand) == 0:

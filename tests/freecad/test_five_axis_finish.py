@@ -24,12 +24,19 @@ import five_axis_check as check
 from freecad_ext import five_axis_finish, scripting
 
 V = FreeCAD.Vector
-# The sweep's tool instances are STEP mm of tip travel apart: between two,
-# the disc's bottom, inclined at the lead, stands up to STEP / 2 x tan(lead)
-# above where the continuous sweep cuts, so "left" may read that much high;
-# "overcut" may read low by the rim's motion between instances, tiny.
-STEP = 0.01
+# Small cases (the suite runs three times in CI): a 6 mm flat end and a
+# scallop height of SCALLOP, strips about 3 mm wide, a few passes per face.
+SCALLOP = 0.05
+# The sweep's tool instances are STEP mm of tip travel apart (well below the
+# strip width): between two, the disc's bottom, inclined at the lead, stands
+# up to STEP / 2 x tan(lead) above where the continuous sweep cuts, so "left"
+# may read that much high; "overcut" may read low by the rim's motion
+# between instances, tiny. The face is sampled every SPACING mm for "left"
+# (OVER_SPACING for the overcut), a few dozen samples across each strip.
+STEP = 0.04
 SIM_OVER = 0.0002
+SPACING = 0.12
+OVER_SPACING = 0.2
 
 
 def sim_left(op):
@@ -37,17 +44,17 @@ def sim_left(op):
 
 
 def tilted_plane():
-    """A 16 x 16 box top tilted by 15 degrees about X."""
-    box = Part.makeBox(16, 16, 6, V(-8, -8, -6))
+    """A 10 x 10 box top tilted by 15 degrees about X."""
+    box = Part.makeBox(10, 10, 6, V(-5, -5, -6))
     box.rotate(V(0, 0, 0), V(1, 0, 0), 15)
     return box
 
 
 def cylinder_patch():
-    """A solid cylinder of radius 20 (axis along Y, 16 mm long) cut by the
-    plane z = -3: its top is a convex cylindrical face about 21 mm wide."""
-    cyl = Part.makeCylinder(20.0, 16.0, V(0, -8, -20), V(0, 1, 0))
-    return cyl.common(Part.makeBox(40, 16, 20, V(-20, -8, -3)))
+    """A solid cylinder of radius 20 (axis along Y, 8 mm long) cut by the
+    plane z = -2: its top is a convex cylindrical face about 17 mm wide."""
+    cyl = Part.makeCylinder(20.0, 8.0, V(0, -4, -20), V(0, 1, 0))
+    return cyl.common(Part.makeBox(40, 8, 20, V(-20, -4, -2)))
 
 
 def cylinder_face(shape):
@@ -55,10 +62,12 @@ def cylinder_face(shape):
 
 
 def saddle():
-    """A bicubic B-spline face 16 x 16: z = (x^2 - y^2) / 80 (convex one way, concave the other)."""
+    """A bicubic B-spline face 10 x 10: z = (x^2 - y^2) / 40 (convex one way,
+    concave the other: across the concave way -kappa R = 0.15 > sin 5 deg,
+    so the lead is raised there)."""
     n = 6
-    poles = [[V(-8 + 16.0 * i / (n - 1), -8 + 16.0 * j / (n - 1),
-                ((-8 + 16.0 * i / (n - 1)) ** 2 - (-8 + 16.0 * j / (n - 1)) ** 2) / 80.0)
+    poles = [[V(-5 + 10.0 * i / (n - 1), -5 + 10.0 * j / (n - 1),
+                ((-5 + 10.0 * i / (n - 1)) ** 2 - (-5 + 10.0 * j / (n - 1)) ** 2) / 40.0)
               for j in range(n)] for i in range(n)]
     surf = Part.BSplineSurface()
     knots, mults = [0.0, 1.0 / 3, 2.0 / 3, 1.0], [4, 1, 1, 4]
@@ -84,6 +93,7 @@ class Built:
         op = five_axis_finish.Create(five_axis_finish.OP_NAME, parentJob=self.job,
                                      toolController=tc or self.flat)
         op.Base = [(self.clone, ["Face%d" % f for f in faces])]
+        props.setdefault("ScallopHeight", SCALLOP)
         for k, v in props.items():
             setattr(op, k, v)
         self.doc.recompute()
@@ -129,9 +139,9 @@ class FiveAxisFinishTest(unittest.TestCase):
             self.assertLessEqual(m[4], op.AMax.Value + 1e-3)
         tips, axes = check.tool_instances(moves, step=STEP)
         face = built.clone.Shape.Faces[face_no - 1]
-        pts, nrm = check.sample_face(face, 0.06, 0.5)
+        pts, nrm = check.sample_face(face, SPACING, 0.5)
         left, _ = check.measure(pts, nrm, tips, axes, 3.0, op.ToolLength.Value)
-        pts0, nrm0 = check.sample_face(face, 0.1, 0.0)
+        pts0, nrm0 = check.sample_face(face, OVER_SPACING, 0.0)
         _, over = check.measure(pts0, nrm0, tips, axes, 3.0, op.ToolLength.Value)
         reached = left[left < math.inf]
         print("%s: %d samples, %d reached; left max %.5f (guaranteed %.5f), overcut max %.5f "
@@ -150,10 +160,13 @@ class FiveAxisFinishTest(unittest.TestCase):
     def test_tilted_plane(self):
         _built, op, left, _over = self.run_case("Tilted", tilted_plane(), top_face)
         # Flat ground: the strip is the tilted disc's, 2 x_h with
-        # R sin(lead) (1 - sqrt(1 - x_h^2 / R^2)) = h' (h' = h - errors), and
-        # the cusps are really there (the check sees material between passes).
-        self.assertGreater(op.StripWidth.Value, 1.3)
-        self.assertLess(op.StripWidth.Value, 1.8)
+        # R sin(lead) (1 - sqrt(1 - x_h^2 / R^2)) = h' (h' = h - errors, at
+        # most h: 3.26 mm for h, lead 5 deg, R 3), and the cusps are really
+        # there (the check sees material between passes).
+        r, lead = 3.0, math.radians(op.LeadAngle.Value)
+        widest = 2 * r * math.sqrt(1 - (1 - op.ScallopHeight.Value / (r * math.sin(lead))) ** 2)
+        self.assertLessEqual(op.StripWidth.Value, widest + 1e-6)
+        self.assertGreater(op.StripWidth.Value, 0.85 * widest)
         self.assertGreater(left.max(), 0.3 * op.ScallopHeight.Value)
 
     def test_ball_end_refused_by_name(self):

@@ -4,8 +4,8 @@ where C turns by half a turn) and a B-spline saddle (concave across one way:
 the lead is raised there). As test_five_axis_finish.py's tilted plane: the
 posted G-code read back by rs274 and swept by five_axis_check.py, which
 shares nothing with the core; material left and overcut within the op's
-GuaranteedScallop and GuaranteedOvercut. Its own file: each face's sweep
-takes a few minutes on a loaded 2-core machine.
+GuaranteedScallop and GuaranteedOvercut. Its own file, small cases as
+there (a few seconds each).
 
 Run: tests/freecad/run_in_freecad.sh tests/freecad/test_five_axis_sim.py
 """
