@@ -67,14 +67,17 @@ int main(int argc, char** argv) {
       {"Figure 2 ruled surface", [] { return TopoDS_Shape(test::figure2_ruled_surface()); },
        [](const TopoDS_Shape&) { return std::vector<int>{0}; }, 0.01},
       {"hill (house on the hill, the hill's top face)", test::house_on_the_hill,
-       [](const TopoDS_Shape& s) { return std::vector<int>{largest(s, test::house_on_the_hill_picked(s))}; },
+       [](const TopoDS_Shape& s) {
+         return std::vector<int>{largest(s, test::house_on_the_hill_picked(s))};
+       },
        0.01},
       {"MAT.brep", [] { return test::load("MAT.brep"); },
        [](const TopoDS_Shape&) { return std::vector<int>{0}; }, 0.01},
   };
   const int only = argc > 2 ? std::atoi(argv[2]) : -1;
   std::ostringstream t;
-  t << "| model (h) | tool, pattern | time (s) | cutting (mm) | paths | machine / cutting time (min) "
+  t << "| model (h) | tool, pattern | time (s) | cutting (mm) | paths | machine / cutting time "
+       "(min) "
        "| guaranteed scallop / overcut (mm) | unreachable (mm) | rotary travel A / C (deg) |\n";
   t << "|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
@@ -96,7 +99,8 @@ int main(int argc, char** argv) {
       p.scallop_height = c.h;
       const auto t0 = std::chrono::steady_clock::now();
       const FiveAxisResult r = five_axis_finish(shape, faces, p);
-      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double secs =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const FiveAxisMetrics& m = r.metrics;
       row("5-axis flat end 6 mm, lead 5 deg", secs, m.cutting_length, m.paths, m.machine_time,
           m.cutting_time, m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length,
@@ -111,7 +115,8 @@ int main(int argc, char** argv) {
       p.safe_z = 1000;
       const auto t0 = std::chrono::steady_clock::now();
       const IsoResult r = adaptive_isocurve(shape, faces, p);
-      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double secs =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const IsoMetrics& m = r.metrics;
       row(std::string("3-axis ball 6 mm, ") +
               (pat == IsoPattern::Adaptive ? "Adaptive" : "ConstantScallop"),

@@ -4,10 +4,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <Standard_Failure.hxx>
 #include <cstring>
 #include <memory>
-
-#include <Standard_Failure.hxx>
 
 #include "isocam/brep_io.h"
 #include "isocam/errors.h"
@@ -65,7 +64,8 @@ PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
 }  // namespace
 
 void bind_five_axis(py::module_& m) {
-  py::class_<FiveAxisParams>(m, "FiveAxisParams", "Parameters of 5-axis strip finishing (mm, degrees)")
+  py::class_<FiveAxisParams>(m, "FiveAxisParams",
+                             "Parameters of 5-axis strip finishing (mm, degrees)")
       .def(py::init<>())
       .def_readwrite("tool_radius", &FiveAxisParams::tool_radius)
       .def_readwrite("corner_radius", &FiveAxisParams::corner_radius, "0 only (flat end)")
@@ -111,7 +111,8 @@ void bind_five_axis(py::module_& m) {
 
   py::class_<PyFiveAxisResult>(m, "FiveAxisResult")
       .def_readonly("kind", &PyFiveAxisResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge")
-      .def_readonly("xyz", &PyFiveAxisResult::xyz, "float64 (N,3): tool tip (bottom face centre), mm")
+      .def_readonly("xyz", &PyFiveAxisResult::xyz,
+                    "float64 (N,3): tool tip (bottom face centre), mm")
       .def_readonly("ijk", &PyFiveAxisResult::ijk, "float64 (N,3): unit tool axis")
       .def_readonly("ac", &PyFiveAxisResult::ac,
                     "float64 (N,2): A, C (degrees), axis = (sinA sinC, -sinA cosC, cosA)")

@@ -69,14 +69,16 @@ TEST(FiveAxis, AxesToAcFollowsTheConventionAndUnwrapsC) {
   axes_to_ac({0.0}, {-0.5}, {-0.8660254037844386}, 0, 90, &a, &c, &ok);
   EXPECT_FALSE(ok[0]);
   // With negative A allowed, the branch (-A, C + 180) that moves less.
-  axes_to_ac({0.0, 0.0}, {-0.5, 0.5}, {0.8660254037844386, 0.8660254037844386}, -90, 90, &a, &c, &ok);
+  axes_to_ac({0.0, 0.0}, {-0.5, 0.5}, {0.8660254037844386, 0.8660254037844386}, -90, 90, &a, &c,
+             &ok);
   EXPECT_NEAR(a[0], 30.0, 1e-9);
   EXPECT_NEAR(a[1], -30.0, 1e-9);
   EXPECT_NEAR(c[1], c[0], 1e-9);
 }
 
 TEST(FiveAxis, PosedOnAPlaneAtTheLead) {
-  const TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp_Dir(0, 0, 1)), 0, 20, 0, 12).Face();
+  const TopoDS_Face face =
+      BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp_Dir(0, 0, 1)), 0, 20, 0, 12).Face();
   FiveAxisParams p;
   p.lead_angle = 7.0;
   p.direction = IsoDirection::V;  // passes along x, stepping across the 12 mm
@@ -104,16 +106,19 @@ TEST(FiveAxis, PosedOnAPlaneAtTheLead) {
   }
   EXPECT_GT(feeds, 10);
   EXPECT_LE(r.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
-  EXPECT_NEAR(r.metrics.flat_strip_width,
-              2 * flat_end_half_width(3, 7, 0, 0, p.scallop_height - (r.metrics.guaranteed_overcut - p.gouge_tolerance)),
-              1e-9);
+  EXPECT_NEAR(
+      r.metrics.flat_strip_width,
+      2 * flat_end_half_width(
+              3, 7, 0, 0, p.scallop_height - (r.metrics.guaranteed_overcut - p.gouge_tolerance)),
+      1e-9);
   // 12 mm across at the strip width: about 12 / w + 1 passes.
   EXPECT_LE(r.metrics.paths, static_cast<int>(12 / r.metrics.flat_strip_width) + 2);
   EXPECT_EQ(r.metrics.unreachable_length, 0.0);
 }
 
 void expect_refused(FiveAxisParams p, const std::string& name) {
-  const TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 0, 5, 0, 5).Face();
+  const TopoDS_Face face =
+      BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 0, 5, 0, 5).Face();
   try {
     five_axis_finish(face, {0}, p);
     ADD_FAILURE() << "accepted " << name;

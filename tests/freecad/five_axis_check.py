@@ -33,7 +33,9 @@ def motions(canon):
         m = CALL.search(line)
         if m:
             v = [float(t) for t in m.group(2).split(",")]
-            out.append(("G0" if m.group(1) == "STRAIGHT_TRAVERSE" else "G1", v[0], v[1], v[2], v[3], v[5]))
+            out.append(
+                ("G0" if m.group(1) == "STRAIGHT_TRAVERSE" else "G1", v[0], v[1], v[2], v[3], v[5])
+            )
     return out
 
 
@@ -103,9 +105,9 @@ def sample_face(face, spacing, margin):
 def line_cylinder(s, n, tips, axes, radius, length):
     """The interval [t0, t1] of the lines s + t n inside each cylinder
     (tip, axis, radius, length); t0 = +inf where the line misses."""
-    w = s[None, :] - tips              # (M,3)
+    w = s[None, :] - tips  # (M,3)
     wa = np.einsum("ij,ij->i", w, axes)
-    na = axes @ n                      # (M,)
+    na = axes @ n  # (M,)
     # Slab 0 <= wa + t na <= length.
     with np.errstate(divide="ignore", invalid="ignore"):
         ta = np.where(np.abs(na) > 1e-12, (0.0 - wa) / na, -np.inf)

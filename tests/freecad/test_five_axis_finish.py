@@ -58,7 +58,9 @@ def cylinder_patch():
 
 
 def cylinder_face(shape):
-    return 1 + next(i for i, f in enumerate(shape.Faces) if f.Surface.TypeId == "Part::GeomCylinder")
+    return 1 + next(
+        i for i, f in enumerate(shape.Faces) if f.Surface.TypeId == "Part::GeomCylinder"
+    )
 
 
 def saddle():
@@ -66,9 +68,17 @@ def saddle():
     concave the other: across the concave way -kappa R = 0.15 > sin 5 deg,
     so the lead is raised there)."""
     n = 6
-    poles = [[V(-5 + 10.0 * i / (n - 1), -5 + 10.0 * j / (n - 1),
-                ((-5 + 10.0 * i / (n - 1)) ** 2 - (-5 + 10.0 * j / (n - 1)) ** 2) / 40.0)
-              for j in range(n)] for i in range(n)]
+    poles = [
+        [
+            V(
+                -5 + 10.0 * i / (n - 1),
+                -5 + 10.0 * j / (n - 1),
+                ((-5 + 10.0 * i / (n - 1)) ** 2 - (-5 + 10.0 * j / (n - 1)) ** 2) / 40.0,
+            )
+            for j in range(n)
+        ]
+        for i in range(n)
+    ]
     surf = Part.BSplineSurface()
     knots, mults = [0.0, 1.0 / 3, 2.0 / 3, 1.0], [4, 1, 1, 4]
     surf.buildFromPolesMultsKnots(poles, mults, mults, knots, knots, False, False, 3, 3)
@@ -90,8 +100,9 @@ class Built:
         return self.job.Model.Group[0]
 
     def op(self, faces, tc=None, **props):
-        op = five_axis_finish.Create(five_axis_finish.OP_NAME, parentJob=self.job,
-                                     toolController=tc or self.flat)
+        op = five_axis_finish.Create(
+            five_axis_finish.OP_NAME, parentJob=self.job, toolController=tc or self.flat
+        )
         op.Base = [(self.clone, ["Face%d" % f for f in faces])]
         props.setdefault("ScallopHeight", SCALLOP)
         for k, v in props.items():
@@ -133,7 +144,9 @@ class FiveAxisFinishTest(unittest.TestCase):
         feeds = [m for m in moves if m[0] == "G1"]
         self.assertGreater(len(feeds), 10)
         for prev, cur in zip(moves, moves[1:]):
-            self.assertLessEqual(abs(cur[5] - prev[5]), 180.0 + 1e-6, "C jumps: %s -> %s" % (prev, cur))
+            self.assertLessEqual(
+                abs(cur[5] - prev[5]), 180.0 + 1e-6, "C jumps: %s -> %s" % (prev, cur)
+            )
         for m in moves:
             self.assertGreaterEqual(m[4], op.AMin.Value - 1e-3)
             self.assertLessEqual(m[4], op.AMax.Value + 1e-3)
@@ -144,11 +157,23 @@ class FiveAxisFinishTest(unittest.TestCase):
         pts0, nrm0 = check.sample_face(face, OVER_SPACING, 0.0)
         _, over = check.measure(pts0, nrm0, tips, axes, 3.0, op.ToolLength.Value)
         reached = left[left < math.inf]
-        print("%s: %d samples, %d reached; left max %.5f (guaranteed %.5f), overcut max %.5f "
-              "(guaranteed %.5f); strip %.3f mm, %d passes, cutting %.1f mm, lead up to %.1f deg"
-              % (name, len(left), len(reached), reached.max() if len(reached) else -1,
-                 op.GuaranteedScallop.Value, over.max(), op.GuaranteedOvercut.Value,
-                 op.StripWidth.Value, op.Passes, op.CuttingLength.Value, op.MaxLeadUsed))
+        print(
+            "%s: %d samples, %d reached; left max %.5f (guaranteed %.5f), overcut max %.5f "
+            "(guaranteed %.5f); strip %.3f mm, %d passes, cutting %.1f mm, lead up to %.1f deg"
+            % (
+                name,
+                len(left),
+                len(reached),
+                reached.max() if len(reached) else -1,
+                op.GuaranteedScallop.Value,
+                over.max(),
+                op.GuaranteedOvercut.Value,
+                op.StripWidth.Value,
+                op.Passes,
+                op.CuttingLength.Value,
+                op.MaxLeadUsed,
+            )
+        )
         # Every sample of the face (away from its edges) is reached ...
         self.assertEqual(len(reached), len(left), "samples no pass comes near")
         # ... and within the guarantees.
@@ -197,7 +222,9 @@ class FiveAxisFinishTest(unittest.TestCase):
         doc.recompute()
         self.assertNotIn("Invalid", again.State, again.getStatusString())
         self.assertAlmostEqual(again.CuttingLength.Value, length, delta=1e-6 * length)
-        self.assertTrue(any(re.match(r"G1", c.Name) and "A" in c.Parameters for c in again.Path.Commands))
+        self.assertTrue(
+            any(re.match(r"G1", c.Name) and "A" in c.Parameters for c in again.Path.Commands)
+        )
 
 
 if __name__ == "__main__":

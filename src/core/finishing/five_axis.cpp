@@ -7,11 +7,10 @@
 #include "isocam/five_axis.h"
 
 #include <BRepBndLib.hxx>
-#include <Bnd_Box.hxx>
 #include <BRepGProp.hxx>
+#include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <Standard_Failure.hxx>
-
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -41,7 +40,8 @@ void require(bool ok, const std::string& name, double v, const std::string& rule
 }
 
 void validate(const FiveAxisParams& p) {
-  require(std::isfinite(p.tool_radius) && p.tool_radius > 0, "tool_radius", p.tool_radius, "> 0 mm");
+  require(std::isfinite(p.tool_radius) && p.tool_radius > 0, "tool_radius", p.tool_radius,
+          "> 0 mm");
   require(p.corner_radius == 0.0, "corner_radius", p.corner_radius,
           "0 (a flat end; bull-nose tools are not supported yet)");
   require(std::isfinite(p.tool_length) && p.tool_length > p.tool_radius, "tool_length",
@@ -69,7 +69,8 @@ void validate(const FiveAxisParams& p) {
   require(std::isfinite(p.feed_rate) && p.feed_rate > 0, "feed_rate", p.feed_rate, "> 0 mm/min");
   require(std::isfinite(p.plunge_rate) && p.plunge_rate > 0, "plunge_rate", p.plunge_rate,
           "> 0 mm/min");
-  require(std::isfinite(p.rapid_rate) && p.rapid_rate > 0, "rapid_rate", p.rapid_rate, "> 0 mm/min");
+  require(std::isfinite(p.rapid_rate) && p.rapid_rate > 0, "rapid_rate", p.rapid_rate,
+          "> 0 mm/min");
   check_max_moves(p.max_moves);
 }
 
@@ -89,13 +90,15 @@ struct Face {
 struct Job {
   const FiveAxisParams& p;
   Budget b;
-  double h_eff = 0;      // the cusp the strips are spaced for
+  double h_eff = 0;                                   // the cusp the strips are spaced for
   double lead = 0, max_lead = 0, tilt = 0, step = 0;  // radians
-  double flat_width = 0;  // strip width on flat ground at the lead
+  double flat_width = 0;                              // strip width on flat ground at the lead
   const ClearanceModel* model = nullptr;
   double shank_clear = 0;  // the query distance of the shank capsule
 
-  double lead_at(double kf, double ka) const { return lead_for(lead, max_lead, p.tool_radius, kf, ka); }
+  double lead_at(double kf, double ka) const {
+    return lead_for(lead, max_lead, p.tool_radius, kf, ka);
+  }
   // The edge at a frame with the lead the job uses there.
   EdgeProfile edge(const StripFrame& f) const {
     const ContactFrame c{f.p, f.normal, f.feed, f.across};
@@ -207,7 +210,9 @@ using Run = std::vector<ParamPt>;
 
 std::vector<Run> clip_face(const PatchGrid& g, const TrimDomain& trim, bool transposed,
                            const Traced& t, double tol) {
-  auto inside = [&](const ParamPt& q) { return transposed ? trim.contains(q.v, q.u) : trim.contains(q.u, q.v); };
+  auto inside = [&](const ParamPt& q) {
+    return transposed ? trim.contains(q.v, q.u) : trim.contains(q.u, q.v);
+  };
   auto lerp = [](const ParamPt& a, const ParamPt& b, double f) {
     return ParamPt{a.u + f * (b.u - a.u), a.v + f * (b.v - a.v)};
   };
@@ -320,9 +325,10 @@ class Poser {
         ++out->gouge_left;
         ok = false;
       } else if (!job_.capsule_clear(x.pose.tip, x.pose.axis) ||
-                 (!cur.empty() && !job_.model->clear(cur.back().pose.tip.Translated(cur.back().pose.axis * job_.p.tool_radius),
-                                                     x.pose.tip.Translated(x.pose.axis * job_.p.tool_radius),
-                                                     job_.shank_clear))) {
+                 (!cur.empty() &&
+                  !job_.model->clear(
+                      cur.back().pose.tip.Translated(cur.back().pose.axis * job_.p.tool_radius),
+                      x.pose.tip.Translated(x.pose.axis * job_.p.tool_radius), job_.shank_clear))) {
         ++out->shank_left;
         ok = false;
       } else if (!a_reachable(x.pose.axis)) {
@@ -346,7 +352,8 @@ class Poser {
     return transposed_ ? trim_.contains(q.v, q.u) : trim_.contains(q.u, q.v);
   }
   double depth(const Posed& x) const {
-    return disc_depth(g_, x.uv, x.pose, job_.p.tool_radius, [this](const ParamPt& q) { return inside(q); });
+    return disc_depth(g_, x.uv, x.pose, job_.p.tool_radius,
+                      [this](const ParamPt& q) { return inside(q); });
   }
   bool a_reachable(const gp_Vec& axis) const {
     const double A = std::acos(std::clamp(axis.Z(), -1.0, 1.0)) / kDegree;
@@ -423,8 +430,10 @@ Linked link_runs(const std::vector<std::vector<Posed>>& runs, const Job& job, do
         if (top) return true;
         const gp_Pnt up(r->X(), r->Y(), safe_z);
         bool clear = true;
-        for (double s : {job.p.tool_radius, 0.5 * (job.p.tool_radius + job.p.tool_length), job.p.tool_length})
-          clear = clear && job.model->clear(r->Translated(a * s), up.Translated(a * s), job.shank_clear);
+        for (double s :
+             {job.p.tool_radius, 0.5 * (job.p.tool_radius + job.p.tool_length), job.p.tool_length})
+          clear = clear &&
+                  job.model->clear(r->Translated(a * s), up.Translated(a * s), job.shank_clear);
         if (clear) return true;
       }
       if (top || d > 1e4) return false;
@@ -444,7 +453,8 @@ Linked link_runs(const std::vector<std::vector<Posed>>& runs, const Job& job, do
     const gp_Pnt approach = s.pose.tip.Translated(s.pose.axis * job.p.air_clearance);
     if (approach.Distance(rs) > 1e-9) add(MoveKind::Rapid, approach, s.pose.axis);
     add(MoveKind::Plunge, s.pose.tip, s.pose.axis);
-    for (std::size_t k = 1; k < run.size(); ++k) add(MoveKind::Feed, run[k].pose.tip, run[k].pose.axis);
+    for (std::size_t k = 1; k < run.size(); ++k)
+      add(MoveKind::Feed, run[k].pose.tip, run[k].pose.axis);
     add(MoveKind::Rapid, re, e.pose.axis);
     if (re.Z() < safe_z) add(MoveKind::Rapid, gp_Pnt(re.X(), re.Y(), safe_z), e.pose.axis);
   }
@@ -456,9 +466,10 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
   std::set<int> seen;
   for (int f : faces) {
     if (f < 0 || f >= static_cast<int>(count))
-      throw InvalidArgument("faces: index " + std::to_string(f) + " is out of range (the shape has " +
-                            std::to_string(count) + " faces)");
-    if (!seen.insert(f).second) throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
+      throw InvalidArgument("faces: index " + std::to_string(f) +
+                            " is out of range (the shape has " + std::to_string(count) + " faces)");
+    if (!seen.insert(f).second)
+      throw InvalidArgument("faces: index " + std::to_string(f) + " given twice");
   }
 }
 
@@ -468,13 +479,15 @@ Budget make_budget(const FiveAxisParams& p) {
   b.axis = p.tool_radius * kAxisDeviation;
   b.chord = p.chord_tolerance > 0 ? p.chord_tolerance : (p.scallop_height - b.posted - b.axis) / 4;
   if (!(p.scallop_height - b.error() > 0))
-    throw InvalidArgument("scallop_height must exceed the chord tolerance, the posted rounding and "
-                          "the axis step's error (" + num(b.error()) + " mm; got " +
-                          num(p.scallop_height) + ")");
+    throw InvalidArgument(
+        "scallop_height must exceed the chord tolerance, the posted rounding and "
+        "the axis step's error (" +
+        num(b.error()) + " mm; got " + num(p.scallop_height) + ")");
   return b;
 }
 
-void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces, const Job& job) {
+void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces,
+                  const Job& job) {
   double area = 0.0;
   for (int f : faces) {
     GProp_GProps props;
@@ -482,8 +495,9 @@ void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& f
     area += std::abs(props.Mass());
   }
   const double est = area / job.flat_width / (0.25 * job.flat_width) + double(faces.size());
-  check_work_budget(est, job.p.max_moves,
-                    num(area) + " mm^2 of faces at a strip width of about " + num(job.flat_width) + " mm");
+  check_work_budget(
+      est, job.p.max_moves,
+      num(area) + " mm^2 of faces at a strip width of about " + num(job.flat_width) + " mm");
 }
 
 }  // namespace
@@ -509,7 +523,8 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   job.step = p.max_axis_step * kDegree;
   {
     const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
-    job.flat_width = 2 * EdgeProfile(flat, p.tool_radius, job.lead, job.tilt, 0.0).half_width(job.h_eff);
+    job.flat_width =
+        2 * EdgeProfile(flat, p.tool_radius, job.lead, job.tilt, 0.0).half_width(job.h_eff);
   }
   check_budget(all, faces, job);
   FiveAxisResult result;
@@ -534,7 +549,8 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
     } catch (const Standard_Failure& e) {
       if (at != faces.end())
         throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
-      result.warnings.push_back(face_label(f) + " is not protected from the shank: " + e.GetMessageString());
+      result.warnings.push_back(face_label(f) +
+                                " is not protected from the shank: " + e.GetMessageString());
     } catch (const GeometryError& e) {
       if (at != faces.end()) throw;
       result.warnings.push_back(face_label(f) + " is not protected from the shank: " + e.what());
@@ -590,14 +606,18 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
       m.paths += static_cast<int>(best.paths.size());
       // A gap the front left wider than the strips: material may be left there.
       if (2 * best.gap > 1.05 * std::max(best.max_width, job.flat_width))
-        result.warnings.push_back(face_label(face.index) + ": the paths leave a gap of " + num(best.gap) +
+        result.warnings.push_back(face_label(face.index) + ": the paths leave a gap of " +
+                                  num(best.gap) +
                                   " mm to the nearest path (sampled), wider than half the strip");
       if (best.min_hits > 0)
-        result.warnings.push_back(face_label(face.index) + ": the strip width asked for less than the "
-                                  "minimum spacing at " + std::to_string(best.min_hits) + " points");
+        result.warnings.push_back(face_label(face.index) +
+                                  ": the strip width asked for less than the "
+                                  "minimum spacing at " +
+                                  std::to_string(best.min_hits) + " points");
       if (best.capped)
         result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
-      const std::vector<Run> clipped = clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
+      const std::vector<Run> clipped =
+          clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
       PoseOut posed;
       const Poser poser(g, *face.trim, best_transposed, job);
       for (const Run& r : clipped) {
@@ -608,17 +628,19 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
       m.lead_raised_points += posed.raised;
       m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
       if (posed.raised > 0)
-        result.warnings.push_back(face_label(face.index) + ": the lead was raised above " +
-                                  num(p.lead_angle) + " deg (up to " + num(posed.max_lead / kDegree) +
-                                  " deg) at " + std::to_string(posed.raised) +
-                                  " positions to keep the flat bottom off concave ground (rear gouge); "
-                                  "the strips there are narrower");
+        result.warnings.push_back(
+            face_label(face.index) + ": the lead was raised above " + num(p.lead_angle) +
+            " deg (up to " + num(posed.max_lead / kDegree) + " deg) at " +
+            std::to_string(posed.raised) +
+            " positions to keep the flat bottom off concave ground (rear gouge); "
+            "the strips there are narrower");
       if (posed.gouge_left + posed.shank_left + posed.range_left > 0)
-        result.warnings.push_back(face_label(face.index) + ": positions left out: " +
-                                  std::to_string(posed.gouge_left) + " where the disc would gouge even at " +
-                                  num(p.max_lead_angle) + " deg lead, " + std::to_string(posed.shank_left) +
-                                  " where the shank meets the model, " + std::to_string(posed.range_left) +
-                                  " where A would leave [" + num(p.a_min) + ", " + num(p.a_max) + "] deg");
+        result.warnings.push_back(
+            face_label(face.index) + ": positions left out: " + std::to_string(posed.gouge_left) +
+            " where the disc would gouge even at " + num(p.max_lead_angle) + " deg lead, " +
+            std::to_string(posed.shank_left) + " where the shank meets the model, " +
+            std::to_string(posed.range_left) + " where A would leave [" + num(p.a_min) + ", " +
+            num(p.a_max) + "] deg");
       for (auto& r : posed.runs) runs.push_back(std::move(r));
     } catch (const Standard_Failure& e) {
       throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
@@ -628,7 +650,8 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   m.guaranteed_scallop += job.b.error();
   m.guaranteed_overcut = job.b.error() + p.gouge_tolerance;
   if (m.guaranteed_scallop > p.scallop_height * (1 + 1e-9))
-    result.warnings.push_back("the measured cusp between adjacent paths (" + num(m.guaranteed_scallop) +
+    result.warnings.push_back("the measured cusp between adjacent paths (" +
+                              num(m.guaranteed_scallop) +
                               " mm with the positions' error) exceeds the scallop height " +
                               num(p.scallop_height) + " mm (see guaranteed_scallop)");
 
@@ -706,10 +729,12 @@ void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
 double flat_end_half_width(double radius, double lead_deg, double tilt_deg, double kappa_across,
                            double h) {
   if (!(radius > 0) || !(h > 0) || !(lead_deg > 0 && lead_deg < 90) || !(std::abs(tilt_deg) < 90))
-    throw InvalidArgument("flat_end_half_width: radius > 0, h > 0, 0 < lead < 90, |tilt| < 90 (got " +
-                          num(radius) + ", " + num(h) + ", " + num(lead_deg) + ", " + num(tilt_deg) + ")");
+    throw InvalidArgument(
+        "flat_end_half_width: radius > 0, h > 0, 0 < lead < 90, |tilt| < 90 (got " + num(radius) +
+        ", " + num(h) + ", " + num(lead_deg) + ", " + num(tilt_deg) + ")");
   const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
-  return EdgeProfile(flat, radius, lead_deg * kDegree, tilt_deg * kDegree, kappa_across).half_width(h);
+  return EdgeProfile(flat, radius, lead_deg * kDegree, tilt_deg * kDegree, kappa_across)
+      .half_width(h);
 }
 
 }  // namespace isocam

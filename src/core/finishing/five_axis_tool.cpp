@@ -58,7 +58,8 @@ double EdgeProfile::height(double x) const {
   if (!(m_ > 0) || x < x_min() || x > x_max()) return kInf;
   const double w = std::acos(std::clamp((x - x0_) / m_, -1.0, 1.0));
   double z = kInf;
-  for (double th : {phi_ + w, phi_ - w}) z = std::min(z, z0_ + s_ * std::cos(th) + t_ * std::sin(th));
+  for (double th : {phi_ + w, phi_ - w})
+    z = std::min(z, z0_ + s_ * std::cos(th) + t_ * std::sin(th));
   return z - ground(kappa_, x);
 }
 
@@ -82,7 +83,9 @@ double EdgeProfile::side_width(double h, double sign) const {
   return reach;
 }
 
-double EdgeProfile::half_width(double h) const { return std::min(side_width(h, 1), side_width(h, -1)); }
+double EdgeProfile::half_width(double h) const {
+  return std::min(side_width(h, 1), side_width(h, -1));
+}
 
 double EdgeProfile::cusp(double spacing) const {
   const double x = 0.5 * spacing;
@@ -91,7 +94,8 @@ double EdgeProfile::cusp(double spacing) const {
 
 double EdgeProfile::lowest() const {
   double low = kInf;
-  for (int k = 0; k <= 200; ++k) low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0));
+  for (int k = 0; k <= 200; ++k)
+    low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0));
   return low;
 }
 
@@ -133,7 +137,8 @@ bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot) 
     if (!(det > 1e-300)) break;
     const double bu = r.Dot(d.su), bv = r.Dot(d.sv);
     const double du = (G * bu - F * bv) / det, dv = (E * bv - F * bu) / det;
-    ParamPt nx{std::clamp(uv.u + du, g.umin(), g.umax()), std::clamp(uv.v + dv, g.vmin(), g.vmax())};
+    ParamPt nx{std::clamp(uv.u + du, g.umin(), g.umax()),
+               std::clamp(uv.v + dv, g.vmin(), g.vmax())};
     clamped = nx.u != uv.u + du || nx.v != uv.v + dv;
     const bool done = std::abs(nx.u - uv.u) + std::abs(nx.v - uv.v) <
                       1e-13 * (g.umax() - g.umin() + g.vmax() - g.vmin());

@@ -84,11 +84,15 @@ double disc_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, d
   e1.Normalize();
   const gp_Vec e2 = pose.axis.Crossed(e1);
   double depth = 0.0;
-  const struct { double r; int n; } rings[] = {{1.0, 48}, {0.66, 24}, {0.33, 12}};
+  const struct {
+    double r;
+    int n;
+  } rings[] = {{1.0, 48}, {0.66, 24}, {0.33, 12}};
   for (const auto& ring : rings)
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
-      const gp_Pnt x = pose.tip.Translated((e1 * std::cos(th) + e2 * std::sin(th)) * (radius * ring.r));
+      const gp_Pnt x =
+          pose.tip.Translated((e1 * std::cos(th) + e2 * std::sin(th)) * (radius * ring.r));
       ParamPt foot;
       if (!nearest_on(g, x, uv, &foot) || !inside(foot)) continue;
       const SurfaceDerivs d = g.d1(foot.u, foot.v);

@@ -82,10 +82,9 @@
 // sampled coverage below reports them), and faces the warnings name.
 #pragma once
 
+#include <TopoDS_Shape.hxx>
 #include <string>
 #include <vector>
-
-#include <TopoDS_Shape.hxx>
 
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/progress.h"
@@ -95,21 +94,21 @@
 namespace isocam {
 
 struct FiveAxisParams {
-  double tool_radius = 3.0;       // mm, R > 0 (a 6 mm flat end)
-  double corner_radius = 0.0;     // mm; only 0 (flat end) is supported yet
-  double tool_length = 30.0;      // mm above the tip that must stay clear (> R)
-  double lead_angle = 5.0;        // degrees, 0 < lead < 60
-  double tilt_angle = 0.0;        // degrees, |tilt| < 45
-  double max_lead_angle = 45.0;   // degrees, lead <= it < 80: the most a raise may use
-  double scallop_height = 0.01;   // mm, 0 < h < R
-  double gouge_tolerance = 0.001; // mm, > 0
-  double chord_tolerance = 0.0;   // mm; 0: derived ((h - p) / 4)
+  double tool_radius = 3.0;          // mm, R > 0 (a 6 mm flat end)
+  double corner_radius = 0.0;        // mm; only 0 (flat end) is supported yet
+  double tool_length = 30.0;         // mm above the tip that must stay clear (> R)
+  double lead_angle = 5.0;           // degrees, 0 < lead < 60
+  double tilt_angle = 0.0;           // degrees, |tilt| < 45
+  double max_lead_angle = 45.0;      // degrees, lead <= it < 80: the most a raise may use
+  double scallop_height = 0.01;      // mm, 0 < h < R
+  double gouge_tolerance = 0.001;    // mm, > 0
+  double chord_tolerance = 0.0;      // mm; 0: derived ((h - p) / 4)
   double posted_resolution = 0.001;  // mm, >= 0, < 0.1
-  double max_axis_step = 1.0;     // degrees, 0.05 .. 10: axis change per move
+  double max_axis_step = 1.0;        // degrees, 0.05 .. 10: axis change per move
   double a_min = 0.0, a_max = 90.0;  // degrees, -120 <= a_min < a_max <= 120
   IsoDirection direction = IsoDirection::Auto;  // start path: iso-V at vmin, iso-U at umin
-  double safe_z = 0.0;            // tip z for moves between passes (raised to clear the model)
-  double air_clearance = 1.0;     // mm, > 0: approach and retract along the axis
+  double safe_z = 0.0;         // tip z for moves between passes (raised to clear the model)
+  double air_clearance = 1.0;  // mm, > 0: approach and retract along the axis
   double feed_rate = 1200.0, plunge_rate = 400.0, rapid_rate = 5000.0;  // mm/min, > 0
   bool protect_unpicked_faces = true;
   double max_moves = kDefaultMaxMoves;
@@ -119,21 +118,21 @@ struct FiveAxisMetrics {
   double cutting_length = 0.0, rapid_length = 0.0, plunge_length = 0.0;  // tip, mm
   double machine_time = 0.0, cutting_time = 0.0;  // s, tip moves at the rates (rotary not timed)
   double rotary_travel_a = 0.0, rotary_travel_c = 0.0;  // sum of |dA|, |dC| over moves (degrees)
-  double chord_tolerance = 0.0;   // used
-  double flat_strip_width = 0.0;  // 2 x_h on flat ground at the lead angle
-  double max_spacing = 0.0;       // largest measured distance between adjacent paths
+  double chord_tolerance = 0.0;                         // used
+  double flat_strip_width = 0.0;                        // 2 x_h on flat ground at the lead angle
+  double max_spacing = 0.0;  // largest measured distance between adjacent paths
   double guaranteed_scallop = 0.0, guaranteed_overcut = 0.0;  // see the header
-  double coverage_gap = 0.0;      // sampled: largest distance from a face point to a path
+  double coverage_gap = 0.0;        // sampled: largest distance from a face point to a path
   double unreachable_length = 0.0;  // contact path left out (gouge, shank, A range)
-  double max_lead_used = 0.0;     // degrees
-  int lead_raised_points = 0;     // posted positions whose lead was raised
+  double max_lead_used = 0.0;       // degrees
+  int lead_raised_points = 0;       // posted positions whose lead was raised
   int paths = 0, retracts = 0;
 };
 
 struct FiveAxisResult {
-  Toolpath path;                  // tip positions (the bottom face's centre), work frame
-  std::vector<double> i, j, k;    // tool axis per move (unit)
-  std::vector<double> a, c;       // rotary angles per move (degrees), see the header
+  Toolpath path;                // tip positions (the bottom face's centre), work frame
+  std::vector<double> i, j, k;  // tool axis per move (unit)
+  std::vector<double> a, c;     // rotary angles per move (degrees), see the header
   FiveAxisMetrics metrics;
   std::vector<std::string> warnings;
 };
@@ -147,8 +146,8 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
 // The A/C angles (degrees) of a sequence of unit axes, as the header says;
 // false at `bad[k]` where no A within [a_min, a_max] gives the axis.
 void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
-                const std::vector<double>& k, double a_min, double a_max,
-                std::vector<double>* a, std::vector<double>* c, std::vector<char>* ok);
+                const std::vector<double>& k, double a_min, double a_max, std::vector<double>* a,
+                std::vector<double>* c, std::vector<char>* ok);
 
 // The strip half-width x_h (mm) of the tilted flat end on ground of normal
 // curvature kappa_across (convex > 0) for the scallop h, lead and tilt in
