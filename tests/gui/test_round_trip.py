@@ -230,6 +230,12 @@ class RoundTrip(unittest.TestCase):
 
     def test_7_cancel_leaves_the_document_as_it_was(self):
         op = self.op()
+        # 0.002 mm plans about 1.5 million moves, over the default MaxMoves:
+        # on a fast machine the planning can end, refused, before the Cancel
+        # below is pressed. With room in the budget the computation runs on
+        # (cutting, about 15 s), so the Cancel always lands in it.
+        max_moves = op.MaxMoves
+        op.MaxMoves = 10 * max_moves
         before = gui.snapshot(self.doc)
         certificate = (op.SubIsocurves, op.CuttingLength.Value)
         FreeCADGui.ActiveDocument.setEdit(op.Name)  # what a double click does
@@ -240,7 +246,11 @@ class RoundTrip(unittest.TestCase):
 
         def cancel_when_shown():
             modal = QtGui.QApplication.activeModalWidget()
+            buttons = modal.findChildren(QtGui.QPushButton) if modal is not None else []
             if modal is not None and gui.is_progress_dialog(modal):
+                if not buttons:  # shown, its button not laid out yet
+                    gui.later(0.1, cancel_when_shown)
+                    return
                 gui.screenshot("progress-before-cancel")
                 cancelled.append(modal.value())
                 gui.click(gui.button_labelled(modal, "Cancel"))
@@ -264,6 +274,7 @@ class RoundTrip(unittest.TestCase):
         gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "the panel to close")
         self.assertAlmostEqual(op.ScallopHeight.Value, SCALLOP)
         self.assertEqual(gui.snapshot(self.doc), before)
+        op.MaxMoves = max_moves
 
     def test_8_saved_document_recomputes_the_same_path_in_gui_and_headless(self):
         path = os.path.join(self.tmp, "round_trip.FCStd")
