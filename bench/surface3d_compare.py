@@ -36,6 +36,9 @@ import traceback
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 DATA = os.path.join(ROOT, "tests", "data")
+sys.path.insert(0, os.path.join(ROOT, "tests", "sim"))
+import sim_command  # noqa: E402  (the simulator's command line)
+
 OUT = os.environ.get("ISOCAM_S3D_OUT") or os.path.join(ROOT, "out", "surface3d")
 
 # The bench's rates for every program (as isocam_finish_bench's estimate):
@@ -273,36 +276,26 @@ def _simulate(case, meta, sim, rs274):
         with open(kept) as f:
             return json.load(f)
     table = os.path.join(OUT, "tool%d.tbl" % meta["tool_number"])
-    with open(table, "w") as out:
-        out.write(
-            "T%d P%d D%.4f Z+0.0000 ;\n"
-            % (meta["tool_number"], meta["tool_number"], 2 * case.radius)
-        )
-    cmd = [
+    sim_command.write_tool_table(table, meta["tool_number"], 2 * case.radius)
+    cmd = sim_command.command(
         sim,
-        "--brep",
         os.path.join(DATA, case.name),
-        "--faces",
-        ",".join(str(f) for f in meta["faces"]),
-        "--radius",
-        repr(case.radius),
-        "--gcode",
+        meta["faces"],
+        case.radius,
         ngc,
-        "--rs274",
-        rs274,
-        "--tool-table",
-        table,
-        "--spacing",
-        repr(case.spacing),
-        "--scallop",
-        repr(case.scallop),
-        "--rapid-rate",
-        repr(RAPID_RATE),
-        "--threads",
-        "2",
-        "--canon-out",
-        ngc[: -len(".ngc")] + ".canon",
-    ]
+        rs274=rs274,
+        tool_table=table,
+        spacing=case.spacing,
+        scallop=case.scallop,
+        extra=[
+            "--rapid-rate",
+            repr(RAPID_RATE),
+            "--threads",
+            "2",
+            "--canon-out",
+            ngc[: -len(".ngc")] + ".canon",
+        ],
+    )
     started = time.monotonic()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:

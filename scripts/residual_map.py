@@ -21,6 +21,8 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tests", "sim"))
+import sim_command  # noqa: E402  (the simulator's command line)
 
 
 def simulator(path):
@@ -31,27 +33,17 @@ def simulator(path):
 
 
 def run_simulator(args, map_file):
-    cmd = [
+    cmd = sim_command.command(
         simulator(args.sim),
-        "--brep",
         args.brep,
-        "--faces",
         args.faces,
-        "--radius",
-        repr(args.radius),
-        "--gcode",
+        args.radius,
         args.gcode,
-        "--spacing",
-        repr(args.spacing),
-        "--map",
-        map_file,
-        "--map-step",
-        repr(args.step),
-    ]
-    if args.tool_table:
-        cmd += ["--tool-table", args.tool_table]
-    if args.scallop:
-        cmd += ["--scallop", repr(args.scallop)]
+        tool_table=args.tool_table,
+        spacing=args.spacing,
+        scallop=args.scallop,
+        extra=["--map", map_file, "--map-step", repr(args.step)],
+    )
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         sys.exit("residual_map: the simulator failed:\n" + proc.stderr)

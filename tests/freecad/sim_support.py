@@ -14,7 +14,12 @@ import math
 import os
 import subprocess
 
+import sys
+
 import fc_test_support as support
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sim"))
+import sim_command  # noqa: E402  (tests/sim: the simulator's command line)
 from freecad_ext import scripting
 
 
@@ -80,32 +85,20 @@ def measure(testcase, job, op, tool_diameter, spacing=SPACING, extra=(), edit=No
     brep = os.path.join(tmp, "model.brep")
     job.Model.Group[0].Shape.exportBrep(brep)
     table = os.path.join(tmp, "tool.tbl")
-    with open(table, "w") as out:
-        tc = op.ToolController
-        out.write("T%d P%d D%.4f Z+0.0000 ;\n" % (tc.ToolNumber, tc.ToolNumber, tool_diameter))
-    cmd = [
+    tc = op.ToolController
+    sim_command.write_tool_table(table, tc.ToolNumber, tool_diameter)
+    cmd = sim_command.command(
         sim,
-        "--brep",
         brep,
-        "--faces",
-        ",".join(str(f) for f in picked_faces(op)),
-        "--radius",
-        repr(tool_diameter / 2),
-        "--gcode",
+        picked_faces(op),
+        tool_diameter / 2,
         ngc,
-        "--rs274",
-        rs274,
-        "--tool-table",
-        table,
-        "--spacing",
-        repr(spacing),
-        "--scallop",
-        repr(op.ScallopHeight.Value),
-        "--map",
-        os.path.join(tmp, "residual.txt"),
-        "--threads",
-        "2",
-    ] + list(extra)
+        rs274=rs274,
+        tool_table=table,
+        spacing=spacing,
+        scallop=op.ScallopHeight.Value,
+        extra=["--map", os.path.join(tmp, "residual.txt"), "--threads", "2"] + list(extra),
+    )
     proc = subprocess.run(cmd, capture_output=True, text=True)
     testcase.assertEqual(proc.returncode, 0, proc.stderr)
     return json.loads(proc.stdout)
