@@ -89,10 +89,11 @@ chroot_prepare() {
   if chroot_ok "$dir"; then return 0; fi
   if ! command -v debootstrap >/dev/null; then
     echo "isocam: installing debootstrap"
-    apt-get update
-    DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends debootstrap
+    apt-get update || return 1
+    DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends debootstrap \
+      || return 1
   fi
-  mirror=$(debian_mirror)
+  mirror=$(debian_mirror) || return 1
   if [ -e "$dir" ]; then
     echo "isocam: chroot $dir is incomplete, building it again"
     chroot_delete "$dir"
@@ -100,7 +101,10 @@ chroot_prepare() {
   mkdir -p "$CHROOT_CACHE"
   echo "isocam: debootstrap $suite into $dir"
   local t0=$SECONDS
-  debootstrap --variant=minbase "$suite" "$dir" "$mirror"
+  if ! debootstrap --variant=minbase "$suite" "$dir" "$mirror"; then
+    echo "isocam: debootstrap $suite failed (see above); the next run builds it again" >&2
+    return 1
+  fi
   printf 'deb %s %s main\n' "$mirror" "$suite" > "$dir/etc/apt/sources.list"
   # sid's Release file may be older than its Valid-Until; nothing to check
   # for a test chroot.
