@@ -102,11 +102,14 @@ OPERATIONS = (
     OperationSpec(
         module="freecad_ext.five_axis_finish",
         name="FiveAxisStripFinish",
-        menu_text="5-Axis Strip Finish",
-        tooltip="5-axis finishing of the picked faces with a flat-end tool tilted "
-        "by a lead angle (Lee 1998): strips several times wider than a ball's at "
-        "the same scallop height; posted with A and C for a table-tilting A/C "
-        "machine with tool-centre-point control.",
+        menu_text=QT_TRANSLATE_NOOP("IsoCAM_FiveAxisStripFinish", "5-Axis Strip Finish"),
+        tooltip=QT_TRANSLATE_NOOP(
+            "IsoCAM_FiveAxisStripFinish",
+            "5-axis finishing of the picked faces with a flat-end tool tilted "
+            "by a lead angle (Lee 1998): strips several times wider than a ball's at "
+            "the same scallop height; posted with A and C for a table-tilting A/C "
+            "machine with tool-centre-point control.",
+        ),
         selection=FACES,
         rules=(
             ("faces",),

@@ -92,6 +92,8 @@ def _supports(spec, tc):
     """Whether the row's rules accept `tc`'s tool (before the op exists)."""
     if ("ball_end",) in spec.rules:
         return compat.is_ball_end(tc.Tool)
+    if ("flat_end",) in spec.rules:
+        return compat.is_flat_end(tc.Tool)
     return True
 
 
@@ -171,11 +173,12 @@ def create_operation(spec):
             )
             return None
     if tc is None:
-        needs = (
-            translate("IsoCAM", "a ball-end tool")
-            if ("ball_end",) in spec.rules
-            else translate("IsoCAM", "a tool")
-        )
+        if ("ball_end",) in spec.rules:
+            needs = translate("IsoCAM", "a ball-end tool")
+        elif ("flat_end",) in spec.rules:
+            needs = translate("IsoCAM", "a flat-end tool")
+        else:
+            needs = translate("IsoCAM", "a tool")
         _tell_user(
             translate(
                 "IsoCAM",
