@@ -31,7 +31,7 @@ import time
 import Path
 
 from freecad_ext import compat, op_base
-from freecad_ext.compat import QT_TRANSLATE_NOOP, PathOp, translate
+from freecad_ext.compat import QT_TRANSLATE_NOOP, translate
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
 
 log = compat.logger(__name__)
@@ -261,17 +261,6 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
     # finishing paths have such zero-length G1s (10172 of 65949 on MAT's
     # Face1 at 0.05 mm scallop), which would be posted at the plunge feed.
     FEEDS_BY_SET_FEED_RATE = False
-
-    # -- PathOp hooks -------------------------------------------------------
-
-    def opFeatures(self, obj):
-        # No FeatureDepths: the passes follow the surface, depths do not apply.
-        return (
-            PathOp.FeatureTool
-            | PathOp.FeatureHeights
-            | PathOp.FeatureBaseFaces
-            | PathOp.FeatureCoolant
-        )
 
     # -- the op's properties (op_base reads them) ------------------------------
 

@@ -32,7 +32,7 @@ import Path
 
 from freecad_ext import compat, op_base
 from freecad_ext.adaptive_isocurve import machine_seconds
-from freecad_ext.compat import QT_TRANSLATE_NOOP, PathOp, translate
+from freecad_ext.compat import QT_TRANSLATE_NOOP, translate
 from freecad_ext.op_base import IsoCAMError, IsoCAMOp, picked_faces
 
 log = compat.logger(__name__)
@@ -285,14 +285,6 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
     OUTPUTS = _OUTPUTS
     ARGUMENT_SOURCES = _ARGUMENT_SOURCES
     ENUMERATIONS = _ENUMERATIONS
-
-    def opFeatures(self, obj):
-        return (
-            PathOp.FeatureTool
-            | PathOp.FeatureHeights
-            | PathOp.FeatureBaseFaces
-            | PathOp.FeatureCoolant
-        )
 
     def opPropertyDefinitions(self):
         return [(prop_type, name, _GROUP, tip) for prop_type, name, tip in _DEFINITIONS]

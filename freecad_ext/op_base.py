@@ -210,6 +210,17 @@ class IsoCAMOp(PathOp.ObjectOp):
 
     # -- PathOp hooks -----------------------------------------------------------
 
+    def opFeatures(self, obj):
+        """FreeCAD's op features of a surface operation (finishing): tool,
+        heights, picked faces, coolant. No FeatureDepths: the passes follow
+        the surface, depths do not apply (the pocketing ops add them)."""
+        return (
+            PathOp.FeatureTool
+            | PathOp.FeatureHeights
+            | PathOp.FeatureBaseFaces
+            | PathOp.FeatureCoolant
+        )
+
     def accepts_tool(self, tool):
         """True if the operation can use `tool` (any tool by default)."""
         return True

@@ -235,11 +235,4 @@ class PocketOp(IsoCAMOp):
     FEEDS_BY_SET_FEED_RATE = True
 
     def opFeatures(self, obj):
-        return (
-            PathOp.FeatureTool
-            | PathOp.FeatureDepths
-            | PathOp.FeatureHeights
-            | PathOp.FeatureStepDown
-            | PathOp.FeatureBaseFaces
-            | PathOp.FeatureCoolant
-        )
+        return super().opFeatures(obj) | PathOp.FeatureDepths | PathOp.FeatureStepDown

@@ -402,6 +402,22 @@ def degenerate_face():
     return surface.toShape()
 
 
+def open_path_workbench(command):
+    """Activate the Path (CAM) workbench and wait until IsoCAM's toolbar
+    offers `command` (the addon adds it when the workbench first shows)."""
+    FreeCADGui.activateWorkbench(PATH_WORKBENCH)
+    wait_until(
+        lambda: toolbar_action(isocam_toolbar(), command) is not None,
+        20,
+        "the IsoCAM toolbar in the Path workbench",
+    )
+
+
+def ops_of(doc, op_class):
+    """The operations of `doc` whose proxy is an `op_class`."""
+    return [o for o in doc.Objects if isinstance(getattr(o, "Proxy", None), op_class)]
+
+
 def settle(doc, rounds=5):
     """Recompute `doc` until no object is left touched, letting the event
     loop run in between: FreeCAD 1.1 finishes a new Job's objects (its

@@ -27,17 +27,13 @@ COMMAND = "IsoCAM_AdaptiveIsocurve"
 
 
 def _our_ops(doc):
-    op_class = adaptive_isocurve.ObjectAdaptiveIsocurve
-    return [o for o in doc.Objects if isinstance(getattr(o, "Proxy", None), op_class)]
+    return gui.ops_of(doc, adaptive_isocurve.ObjectAdaptiveIsocurve)
 
 
 class BadInput(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
-        gui.wait_until(
-            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None, 20, "toolbar"
-        )
+        gui.open_path_workbench(COMMAND)
         cls.doc = doc = FreeCAD.newDocument("IsoCAMBadInput")
         mat = doc.addObject("Part::Feature", "MAT")
         mat.Shape = gui.load_shape("MAT.brep")

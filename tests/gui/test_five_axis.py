@@ -33,8 +33,7 @@ def _model():
 
 
 def _ops(doc):
-    op_class = five_axis_finish.ObjectFiveAxisStripFinish
-    return [o for o in doc.Objects if isinstance(getattr(o, "Proxy", None), op_class)]
+    return gui.ops_of(doc, five_axis_finish.ObjectFiveAxisStripFinish)
 
 
 class FiveAxis(unittest.TestCase):
@@ -42,12 +41,7 @@ class FiveAxis(unittest.TestCase):
     def setUpClass(cls):
         cls.show_after = gui_progress.SHOW_AFTER
         gui_progress.SHOW_AFTER = 0.0
-        FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
-        gui.wait_until(
-            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None,
-            20,
-            "toolbar",
-        )
+        gui.open_path_workbench(COMMAND)
         cls.doc = doc = FreeCAD.newDocument("IsoCAMFiveAxis")
         model = doc.addObject("Part::Feature", "Tilted")
         model.Shape = _model()

@@ -37,8 +37,7 @@ def _model():
 
 
 def _ops(doc):
-    op_class = spiral_pocket.ObjectSpiralPocket
-    return [o for o in doc.Objects if isinstance(getattr(o, "Proxy", None), op_class)]
+    return gui.ops_of(doc, spiral_pocket.ObjectSpiralPocket)
 
 
 class Pocketing(unittest.TestCase):
@@ -46,12 +45,7 @@ class Pocketing(unittest.TestCase):
     def setUpClass(cls):
         cls.show_after = gui_progress.SHOW_AFTER
         gui_progress.SHOW_AFTER = 0.0
-        FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
-        gui.wait_until(
-            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None,
-            20,
-            "toolbar",
-        )
+        gui.open_path_workbench(COMMAND)
         cls.doc = FreeCAD.newDocument("IsoCAMPocketing")
         model = cls.doc.addObject("Part::Feature", "Block")
         model.Shape = _model()

@@ -31,11 +31,7 @@ COMPUTE_TIMEOUT = 90.0  # s
 
 
 def _ops(doc):
-    return [
-        o
-        for o in doc.Objects
-        if isinstance(getattr(o, "Proxy", None), adaptive_isocurve.ObjectAdaptiveIsocurve)
-    ]
+    return gui.ops_of(doc, adaptive_isocurve.ObjectAdaptiveIsocurve)
 
 
 class RoundTrip(unittest.TestCase):
@@ -62,12 +58,7 @@ class RoundTrip(unittest.TestCase):
         return FreeCAD.ActiveDocument.getObject(self.op_name)
 
     def test_1_command_in_the_path_workbench(self):
-        FreeCADGui.activateWorkbench(gui.PATH_WORKBENCH)
-        gui.wait_until(
-            lambda: gui.toolbar_action(gui.isocam_toolbar(), COMMAND) is not None,
-            20,
-            "the IsoCAM toolbar in the Path workbench",
-        )
+        gui.open_path_workbench(COMMAND)
         action = gui.toolbar_action(gui.isocam_toolbar(), COMMAND)
         self.assertFalse(action.icon().isNull())
         self.assertIn("ball-end", action.toolTip())
