@@ -158,7 +158,7 @@ def draw(op, face, png):
     top.set_aspect("equal")
     top.set_xlabel("x (mm)")
     top.set_ylabel("y (mm)")
-    top.set_title("top view: cutting passes (black), rapids at SafeHeight (red)")
+    top.set_title("top view: cutting passes (black), rapids: hops and moves to SafeHeight (red)")
     fig.colorbar(shade, ax=top, shrink=0.8, label="model height z (mm)")
 
     side = fig.add_subplot(1, 2, 2, projection="3d")
