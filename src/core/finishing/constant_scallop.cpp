@@ -339,6 +339,7 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
   const std::size_t nd = dirs.size();
   const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
   std::vector<FaceOut> tried(faces.size() * nd);
+  TaskProgress tracing(all.sub(0.0, 0.7), tried.size());
   for_each_index(tried.size(), params.threads, [&](std::size_t k) {
     const ScallopFace& face = faces[k / nd];
     FaceOut& o = tried[k];
@@ -346,9 +347,7 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
     const bool transposed = o.dir == IsoDirection::U;
     try {
       o.grid = std::make_shared<const PatchGrid>(transposed ? face.grid->transposed() : *face.grid);
-      const double n = double(tried.size());
-      o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params,
-                            all.sub(0.7 * double(k) / n, 0.7 * double(k + 1) / n));
+      o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params, tracing.task(k));
       sample_coverage(*o.grid, *face.trim, transposed, *o.paths.index, params.ball_radius, flat,
                       o.paths.max_spacing, &o.gap, &o.gap_scallop);
     } catch (const Standard_Failure& e) {

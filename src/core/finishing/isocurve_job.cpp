@@ -362,16 +362,13 @@ PatternCut cut_constant_scallop(const ModelFaces& mf, const JobPlan& job,
 std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDirection>& dirs,
                                    const JobPlan& job, Progress* progress) {
   const std::size_t nd = dirs.size();
-  const double nf = double(mf.picked.size());
-  const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
   std::vector<FaceResult> tried(mf.picked.size() * nd);
+  TaskProgress planning(ProgressSlice(progress).sub(0.0, 0.6), tried.size());
   for_each_index(tried.size(), job.params.threads, [&](std::size_t k) {
     const std::size_t f = k / nd, di = k % nd;
     const PickedFace& face = mf.faces[mf.picked[f]];
     try {
-      const double lo = (double(f) + double(di) / double(nd)) / nf;
-      const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
-      tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.sub(lo, hi));
+      tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.task(k));
       if (di == 0)
         tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, job.params.ball_radius,
                                                   job.params.scallop_height);

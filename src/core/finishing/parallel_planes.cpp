@@ -308,14 +308,14 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
     }
     if (lo > hi) break;  // no face has a cell inside its trimmed domain
     const Planes planes = planes_over(lo, hi, delta);
-    const double na = double(axes.size()), nf = double(faces.size());
-    const ProgressSlice slice =
-        all.sub(0.1 + 0.9 * double(ai) / na, 0.1 + 0.9 * double(ai + 1) / na);
+    const double na = double(axes.size());
+    TaskProgress tracing(all.sub(0.1 + 0.9 * double(ai) / na, 0.1 + 0.9 * double(ai + 1) / na),
+                         faces.size());
     AxisCut cut;
     cut.faces.resize(faces.size());
     for_each_index(faces.size(), params.threads, [&](std::size_t k) {
       on_face(k, [&] {
-        const ProgressSlice part = slice.sub(double(k) / nf, double(k + 1) / nf);
+        const ProgressSlice part = tracing.task(k);
         for (const LevelCurve& c :
              trace_levels(*lattices[k], axis, planes.c0, delta, planes.count, part)) {
           part.check();  // a cancel is seen between curves, not only between faces
