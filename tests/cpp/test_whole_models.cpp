@@ -70,7 +70,10 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
             << ", unreachable length " << res.metrics.unreachable_length << " (from above "
             << res.metrics.unreachable_from_above_length << ")\n";
   // No gouge against any face of the model, links included (they are feed
-  // moves too).
+  // moves too): the core's own bound, r less its chord and clearance-check
+  // tolerances; 1e-4 mm is headroom for the check's distance (the nearest
+  // sample of its cloud refined by a local projection onto the face), not
+  // for the core.
   EXPECT_GE(w.min_clearance, c.r - res.metrics.chord_tolerance - p.gouge_tolerance - 1e-4)
       << "ball centre (" << w.closest_centre.X() << ", " << w.closest_centre.Y() << ", "
       << w.closest_centre.Z() << ") from face " << w.closest_face << " at (" << w.closest_point.X()
@@ -87,8 +90,9 @@ TEST_P(WholeModel, NoGougeCoveredWhereReachableAndLinked) {
                 << " (not asserted)\n";
     }
   }
+  // 1e-6 relative: the certificate's rounding, not a looser budget.
   EXPECT_LE(res.metrics.guaranteed_scallop, c.h * (1 + 1e-6));
-  EXPECT_GT(w.samples, 1000);
+  EXPECT_GT(w.samples, 1000);  // the check saw the model (c.samples per face side)
   // Linking: far fewer retracts than pieces.
   EXPECT_LT(res.metrics.retracts, res.metrics.sub_isocurves);
 }

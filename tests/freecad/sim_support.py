@@ -18,7 +18,10 @@ import sys
 
 import fc_test_support as support
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sim"))
+_TESTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+sys.path.insert(0, os.path.join(_TESTS, "sim"))
+sys.path.append(_TESTS)
+import expected_figures  # noqa: E402  (tests/: the figures of tests/data/expected.txt)
 import sim_command  # noqa: E402  (tests/sim: the simulator's command line)
 from freecad_ext import scripting
 
@@ -143,12 +146,17 @@ def describe(name, op, result):
     )
 
 
-def check_measured(testcase, name, op, result, min_reachable=0.5):
-    """The measurement saw the part: enough samples and reachable area, and
-    every reachable point near the path (none left uncovered)."""
+def check_measured(testcase, name, op, result):
+    """The measurement saw the part: enough samples and reachable area (the
+    model's figure GcodeSim/<name> reachable_fraction, tests/data/expected.txt),
+    and every reachable point near the path (none left uncovered)."""
     print(describe(name, op, result))
+    # 10000: the measurement sampled the picked faces at all (each job of
+    # the tests gives 3.5e5 to 2.4e6 samples at its spacing).
     testcase.assertGreater(result["picked_samples"], 10000, name)
-    testcase.assertGreater(result["reachable_fraction"], min_reachable, name)
+    expected_figures.check(
+        testcase, "GcodeSim/" + name, "reachable_fraction", result["reachable_fraction"]
+    )
     testcase.assertEqual(result["uncovered_samples"], 0, name)
     # The fed length the machine runs, as the sim measured it, is the op's:
     # its passes and links (CuttingLength) and its fed entries, plunged or
@@ -173,9 +181,9 @@ def assert_overcut_within_stated(testcase, name, op, result):
     testcase.assertEqual(result["rapid_overcut"]["max"], 0.0, describe(name, op, result))
 
 
-def assert_within_stated(testcase, name, op, result, min_reachable=0.5):
+def assert_within_stated(testcase, name, op, result):
     """The op's promise, measured: material left and overcut within
     stated_bounds(op), no rapid cutting, on a measurement that saw the part."""
-    check_measured(testcase, name, op, result, min_reachable)
+    check_measured(testcase, name, op, result)
     assert_left_within_stated(testcase, name, op, result)
     assert_overcut_within_stated(testcase, name, op, result)

@@ -89,7 +89,7 @@ def faces_where(shape, test):
 
 
 class BuiltModelsTest(unittest.TestCase):
-    def run_case(self, name, shape, ball_diameter, scallop, pick, min_reachable=0.5):
+    def run_case(self, name, shape, ball_diameter, scallop, pick):
         built = Built(name, shape, ball_diameter)
         self.addCleanup(built.close)
         faces = faces_where(built.clone.Shape, pick)
@@ -97,7 +97,7 @@ class BuiltModelsTest(unittest.TestCase):
         op = built.op(faces, scallop)
         self.assertNotIn("Invalid", op.State, op.getStatusString())
         result = sim_support.measure(self, built.job, op, ball_diameter, spacing=0.03)
-        sim_support.assert_within_stated(self, name, op, result, min_reachable)
+        sim_support.assert_within_stated(self, name, op, result)
         return result
 
     def test_the_check_sees_a_program_off_by_a_little(self):

@@ -16,7 +16,10 @@ import sys
 import unittest
 
 sys.path.insert(0, os.environ.get("ISOCAM_ADDON_DIR", ""))
+sys.path.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 import numpy as np  # noqa: E402
+
+import expected_figures  # noqa: E402  (tests/: the figures of tests/data/expected.txt)
 
 import isocam_core as core  # noqa: E402
 
@@ -60,7 +63,9 @@ class ParallelPlanesOnMat(unittest.TestCase):
         self.assertIn(res.plane_axis, (core.IsoPlaneAxis.X, core.IsoPlaneAxis.Y))
         self.assertEqual(res.face_direction, ["Auto"])
         self.assertEqual(len(res.curves), 0)
-        self.assertGreater(res.metrics.sub_isocurves, 50)
+        expected_figures.check(
+            self, "ParallelPlanes/MAT", "sub_isocurves", res.metrics.sub_isocurves
+        )
         kind, xyz = res.kind, res.xyz
         seg = np.linalg.norm(np.diff(xyz, axis=0), axis=1)
         # 1e-6 mm: the same segment lengths summed in another order.
@@ -85,7 +90,9 @@ class ParallelPlanesOnMat(unittest.TestCase):
         # Figure 3b: same h, fewer and sparser passes than the adaptive path.
         a, p = self.adaptive.metrics, self.planes.metrics
         self.assertLessEqual(a.max_iso_distance, a.delta_max)
-        self.assertGreater(p.max_iso_distance, 2 * p.delta)
+        expected_figures.check(
+            self, "ParallelPlanes/MAT", "pass_distance_over_delta", p.max_iso_distance / p.delta
+        )
         self.assertGreater(p.guaranteed_scallop, H)
         self.assertLess(p.cutting_length, a.cutting_length)
 
@@ -105,8 +112,18 @@ class ParallelPlanesOnMat(unittest.TestCase):
             ),
         )
         print(describe(f"planes h={h:.5f}", dense))
-        self.assertLess(dense.metrics.max_iso_distance, 1.5 * a.delta)
-        self.assertGreater(dense.metrics.cutting_length, 2 * a.cutting_length)
+        expected_figures.check(
+            self,
+            "ParallelPlanes/MAT",
+            "dense_pass_distance_over_delta",
+            dense.metrics.max_iso_distance / a.delta,
+        )
+        expected_figures.check(
+            self,
+            "ParallelPlanes/MAT",
+            "dense_over_adaptive_length",
+            dense.metrics.cutting_length / a.cutting_length,
+        )
 
     def test_axis_is_an_enum_of_the_params(self):
         p = params(plane_axis=core.IsoPlaneAxis.Y)
