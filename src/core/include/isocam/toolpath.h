@@ -10,8 +10,9 @@
 
 namespace isocam {
 
-// The values are the module's RAPID ... RAMP (src/python/module.cpp) and the
-// uint8 `kind` arrays the operations return; they do not change.
+// The values are the module's RAPID ... RAMP (src/python/path_arrays.cpp)
+// and those of the uint8 `kind` arrays the operations return; they do not
+// change.
 enum class MoveKind : std::uint8_t {
   Rapid = 0,   // G0
   Feed = 1,    // G1 at horizontal feed (cutting and linking moves)
