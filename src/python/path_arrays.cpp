@@ -61,9 +61,8 @@ Toolpath path_from_arrays(const py::array_t<std::uint8_t>& kind, const DoubleArr
 
 void bind_move_kinds(py::module_& m) {
   const std::pair<const char*, MoveKind> kinds[] = {
-      {"RAPID", MoveKind::Rapid},   {"FEED", MoveKind::Feed},
-      {"PLUNGE", MoveKind::Plunge}, {"ARC_CW", MoveKind::ArcCW},
-      {"ARC_CCW", MoveKind::ArcCCW}, {"RAMP", MoveKind::Ramp},
+      {"RAPID", MoveKind::Rapid},  {"FEED", MoveKind::Feed},      {"PLUNGE", MoveKind::Plunge},
+      {"ARC_CW", MoveKind::ArcCW}, {"ARC_CCW", MoveKind::ArcCCW}, {"RAMP", MoveKind::Ramp},
   };
   for (const auto& [name, k] : kinds) m.attr(name) = static_cast<int>(k);
 }
