@@ -5,12 +5,12 @@
 #include <pybind11/stl.h>
 
 #include <Standard_Failure.hxx>
-#include <cstring>
 #include <memory>
 
 #include "isocam/brep_io.h"
 #include "isocam/errors.h"
 #include "isocam/five_axis.h"
+#include "path_arrays.h"
 
 namespace py = pybind11;
 using namespace isocam;
@@ -24,21 +24,6 @@ struct PyFiveAxisResult {
   std::vector<std::string> warnings;
 };
 
-py::array_t<double> columns(const std::vector<double>& a, const std::vector<double>& b,
-                            const std::vector<double>* c) {
-  const auto n = static_cast<py::ssize_t>(a.size());
-  const py::ssize_t w = c ? 3 : 2;
-  py::array_t<double> out({n, w});
-  auto o = out.mutable_unchecked<2>();
-  for (py::ssize_t i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    o(i, 0) = a[k];
-    o(i, 1) = b[k];
-    if (c) o(i, 2) = (*c)[k];
-  }
-  return out;
-}
-
 PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
                      const FiveAxisParams& params, Progress* progress) {
   FiveAxisResult r;
@@ -51,11 +36,10 @@ PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
     }
   }
   PyFiveAxisResult out;
-  out.kind = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(r.path.size()));
-  if (!r.path.empty()) std::memcpy(out.kind.mutable_data(), r.path.kind.data(), r.path.size());
-  out.xyz = columns(r.path.x, r.path.y, &r.path.z);
-  out.ijk = columns(r.i, r.j, &r.k);
-  out.ac = columns(r.a, r.c, nullptr);
+  out.kind = py_path::kind_array(r.path);
+  out.xyz = py_path::xyz_array(r.path);
+  out.ijk = py_path::columns(r.i, r.j, &r.k);
+  out.ac = py_path::columns(r.a, r.c, nullptr);
   out.metrics = r.metrics;
   out.warnings = std::move(r.warnings);
   return out;
@@ -110,7 +94,7 @@ void bind_five_axis(py::module_& m) {
       .def_readonly("retracts", &FiveAxisMetrics::retracts);
 
   py::class_<PyFiveAxisResult>(m, "FiveAxisResult")
-      .def_readonly("kind", &PyFiveAxisResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge")
+      .def_readonly("kind", &PyFiveAxisResult::kind, "uint8 (N,): RAPID, FEED, PLUNGE")
       .def_readonly("xyz", &PyFiveAxisResult::xyz,
                     "float64 (N,3): tool tip (bottom face centre), mm")
       .def_readonly("ijk", &PyFiveAxisResult::ijk, "float64 (N,3): unit tool axis")

@@ -12,7 +12,6 @@
 
 #include <Standard_Failure.hxx>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <string>
@@ -21,6 +20,7 @@
 #include "isocam/errors.h"
 #include "isocam/pocket_check.h"
 #include "isocam/pocketing.h"
+#include "path_arrays.h"
 
 namespace py = pybind11;
 
@@ -36,21 +36,9 @@ struct PyPocketResult {
 
 PyPocketResult to_python(PocketResult&& r) {
   PyPocketResult out;
-  const auto n = static_cast<py::ssize_t>(r.path.size());
-  out.kind = py::array_t<std::uint8_t>(n);
-  if (n > 0) std::memcpy(out.kind.mutable_data(), r.path.kind.data(), r.path.size());
-  out.xyz = py::array_t<double>({n, py::ssize_t(3)});
-  out.centre = py::array_t<double>({n, py::ssize_t(2)});
-  auto xyz = out.xyz.mutable_unchecked<2>();
-  auto cen = out.centre.mutable_unchecked<2>();
-  for (py::ssize_t i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    xyz(i, 0) = r.path.x[k];
-    xyz(i, 1) = r.path.y[k];
-    xyz(i, 2) = r.path.z[k];
-    cen(i, 0) = r.path.cx[k];
-    cen(i, 1) = r.path.cy[k];
-  }
+  out.kind = py_path::kind_array(r.path);
+  out.xyz = py_path::xyz_array(r.path);
+  out.centre = py_path::centre_array(r.path);
   out.metrics = std::move(r.metrics);
   return out;
 }
@@ -111,35 +99,13 @@ py::array_t<double> array_from_profile(const Loop& loop) {
   return a;
 }
 
-using ProfileArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using ProfileArray = py_path::DoubleArray;
 
 std::vector<Loop> region_from_arrays(const std::vector<ProfileArray>& profiles) {
   std::vector<Loop> region;
   for (std::size_t i = 0; i < profiles.size(); ++i)
     region.push_back(profile_from_array(profiles[i], "profiles[" + std::to_string(i) + "]"));
   return region;
-}
-
-PocketPath path_from_arrays(const py::array_t<std::uint8_t>& kind, const ProfileArray& xyz,
-                            const ProfileArray& centre) {
-  const auto n = kind.size();
-  if (xyz.ndim() != 2 || xyz.shape(0) != n || xyz.shape(1) != 3)
-    throw InvalidArgument("xyz: must have shape (N, 3) with N = len(kind)");
-  if (centre.ndim() != 2 || centre.shape(0) != n || centre.shape(1) != 2)
-    throw InvalidArgument("centre: must have shape (N, 2) with N = len(kind)");
-  auto k = kind.unchecked<1>();
-  auto p = xyz.unchecked<2>();
-  auto c = centre.unchecked<2>();
-  PocketPath path;
-  for (py::ssize_t i = 0; i < n; ++i) {
-    if (k(i) > 4) throw InvalidArgument("kind: move kinds are 0 to 4");
-    const auto mk = static_cast<PocketMove>(k(i));
-    if (mk == PocketMove::ArcCW || mk == PocketMove::ArcCCW)
-      path.add_arc(mk == PocketMove::ArcCCW, p(i, 0), p(i, 1), p(i, 2), c(i, 0), c(i, 1));
-    else
-      path.add(mk, p(i, 0), p(i, 1), p(i, 2));
-  }
-  return path;
 }
 
 }  // namespace
@@ -183,14 +149,11 @@ void bind_pocketing(py::module_& m) {
 
   py::class_<PyPocketResult>(m, "PocketResult")
       .def_readonly("kind", &PyPocketResult::kind,
-                    "uint8 (N,): 0 rapid, 1 feed, 2 plunge, 3 arc cw (G2), 4 arc ccw (G3)")
+                    "uint8 (N,): RAPID, FEED, PLUNGE, ARC_CW (G2), ARC_CCW (G3)")
       .def_readonly("xyz", &PyPocketResult::xyz, "float64 (N,3): move end points, tool tip, mm")
       .def_readonly("centre", &PyPocketResult::centre,
                     "float64 (N,2): arc centres (NaN for other moves)")
       .def_readonly("metrics", &PyPocketResult::metrics);
-
-  m.attr("ARC_CW") = 3;
-  m.attr("ARC_CCW") = 4;
 
   m.def(
       "pocket_faces",
@@ -274,7 +237,7 @@ void bind_pocketing(py::module_& m) {
          const ProfileArray& xyz, const ProfileArray& centre, double tool_radius, double z_floor,
          double cell, double tolerance) {
         const std::vector<Loop> region = region_from_arrays(profiles);
-        const PocketPath path = path_from_arrays(kind, xyz, centre);
+        const Toolpath path = py_path::path_from_arrays(kind, xyz, centre);
         CoverageParams cp;
         cp.tool_radius = tool_radius;
         cp.cell = cell;

@@ -7,7 +7,6 @@
 
 #include <Standard_Failure.hxx>
 #include <algorithm>
-#include <cstring>
 #include <memory>
 #include <regex>
 #include <set>
@@ -17,6 +16,7 @@
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
 #include "isocam/errors.h"
+#include "path_arrays.h"
 
 namespace py = pybind11;
 using namespace isocam;
@@ -42,17 +42,8 @@ struct PyIsoResult {
 
 PyIsoResult to_python(IsoResult&& r) {
   PyIsoResult out;
-  const auto n = static_cast<py::ssize_t>(r.path.size());
-  out.kind = py::array_t<std::uint8_t>(n);
-  if (n > 0) std::memcpy(out.kind.mutable_data(), r.path.kind.data(), r.path.size());
-  out.xyz = py::array_t<double>({n, py::ssize_t(3)});
-  auto xyz = out.xyz.mutable_unchecked<2>();
-  for (py::ssize_t i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    xyz(i, 0) = r.path.x[k];
-    xyz(i, 1) = r.path.y[k];
-    xyz(i, 2) = r.path.z[k];
-  }
+  out.kind = py_path::kind_array(r.path);
+  out.xyz = py_path::xyz_array(r.path);
   out.metrics = r.metrics;
   for (IsoDirection d : r.face_direction) out.face_direction.emplace_back(direction_name(d));
   out.curves = std::move(r.curves);
@@ -225,7 +216,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("t1", &SubIsocurve::t1);
 
   py::class_<PyIsoResult>(m, "IsoResult")
-      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): 0 rapid, 1 feed, 2 plunge, 5 ramp")
+      .def_readonly("kind", &PyIsoResult::kind, "uint8 (N,): RAPID, FEED, PLUNGE, RAMP")
       .def_readonly("xyz", &PyIsoResult::xyz, "float64 (N,3): move end points, tool tip, mm")
       .def_readonly("metrics", &PyIsoResult::metrics)
       .def_readonly("face_direction", &PyIsoResult::face_direction)
@@ -233,10 +224,7 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("warnings", &PyIsoResult::warnings)
       .def_readonly("plane_axis", &PyIsoResult::plane_axis, "ParallelPlanes: the axis used");
 
-  m.attr("RAPID") = 0;
-  m.attr("FEED") = 1;
-  m.attr("PLUNGE") = 2;
-  m.attr("RAMP") = 5;
+  py_path::bind_move_kinds(m);
 
   m.def("stepover_for_scallop", &stepover_for_scallop, py::arg("ball_radius"),
         py::arg("scallop_height"), "Flat-ground stepover delta = 2 sqrt(2 r h - h^2)");

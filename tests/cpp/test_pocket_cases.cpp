@@ -181,7 +181,7 @@ TEST(PocketCases, ConventionalReversesTheLoops) {
   EXPECT_NEAR(climb.metrics.cutting_length, conv.metrics.cutting_length, 1e-6);
   // The outermost loop runs counter-clockwise (climb: the wall on the
   // right) or clockwise: the signed area of its last moves tells.
-  auto last_loop_area = [](const PocketPath& path) {
+  auto last_loop_area = [](const Toolpath& path) {
     // The last loop ends where it started: the moves after that point.
     const std::size_t n = path.size() - 1;
     std::size_t j = n - 1;

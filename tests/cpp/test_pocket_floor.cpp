@@ -24,7 +24,7 @@ namespace isocam {
 namespace {
 
 struct FloorRun {
-  PocketPath path;
+  Toolpath path;
   PocketMetrics metrics;
   test::FloorMeasure floor;
   CoverageReport plan;
@@ -48,13 +48,13 @@ FloorRun case_study(double eps, double delta, double cusp) {
   run.floor = test::measure_floor(run.path, R, reach, test::case_study_floor_z, 1.0);
   // Plan view: every reachable point under a ball's centre track, with the
   // feed moves flattened (the rapids lifted off the plane).
-  PocketPath flat;
+  Toolpath flat;
   for (std::size_t i = 0; i < run.path.size(); ++i) {
-    if (run.path.kind[i] == static_cast<std::uint8_t>(PocketMove::Feed)) {
-      flat.add(PocketMove::Feed, run.path.x[i], run.path.y[i], 0.0);
+    if (run.path.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed)) {
+      flat.add(MoveKind::Feed, run.path.x[i], run.path.y[i], 0.0);
     } else {
-      flat.add(PocketMove::Rapid, run.path.x[i], run.path.y[i], 1.0);
-      flat.add(PocketMove::Plunge, run.path.x[i], run.path.y[i], 0.0);
+      flat.add(MoveKind::Rapid, run.path.x[i], run.path.y[i], 1.0);
+      flat.add(MoveKind::Plunge, run.path.x[i], run.path.y[i], 0.0);
     }
   }
   CoverageParams cp;

@@ -55,10 +55,10 @@ TEST(PocketRoughing, DomeOnAPlate) {
     for (std::size_t i = 1; i < res.path.size(); ++i) {
       if (res.path.z[i] != z || res.path.z[i - 1] != z) continue;
       const P2 a{res.path.x[i - 1], res.path.y[i - 1]}, b{res.path.x[i], res.path.y[i]};
-      const auto k = static_cast<PocketMove>(res.path.kind[i]);
+      const auto k = static_cast<MoveKind>(res.path.kind[i]);
       const Seg s =
-          (k == PocketMove::ArcCW || k == PocketMove::ArcCCW)
-              ? Seg::arc_between({res.path.cx[i], res.path.cy[i]}, a, b, k == PocketMove::ArcCCW)
+          (k == MoveKind::ArcCW || k == MoveKind::ArcCCW)
+              ? Seg::arc_between({res.path.cx[i], res.path.cy[i]}, a, b, k == MoveKind::ArcCCW)
               : Seg::line(a, b);
       const int n = std::max(1, static_cast<int>(std::ceil(s.length() / 0.2)));
       for (int j = 0; j <= n; ++j) {

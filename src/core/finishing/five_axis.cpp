@@ -673,11 +673,7 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   }
   std::vector<char> ok;
   axes_to_ac(result.i, result.j, result.k, p.a_min, p.a_max, &result.a, &result.c, &ok);
-  const PathLengths len = measure(result.path);
-  m.cutting_length = len.feed;
-  m.rapid_length = len.rapid;
-  m.plunge_length = len.plunge + len.ramp;
-  m.retracts = len.retracts;
+  report_lengths(measure(result.path), m);
   const PathTimes t = estimate_time(result.path, p.feed_rate, p.plunge_rate, p.rapid_rate);
   m.machine_time = t.total;
   m.cutting_time = t.feed;

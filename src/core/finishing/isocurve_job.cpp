@@ -497,11 +497,7 @@ void certify(IsoResult& result, const PatternCut& cut, const JobPlan& job) {
         mm(m.unreachable_from_above_length) +
         " mm of tool-centre path left out: a vertical tool cannot reach those places from above "
         "(undersides, places under an overhang); material is left there");
-  const PathLengths len = measure(result.path);
-  m.cutting_length = len.feed;
-  m.rapid_length = len.rapid;
-  m.plunge_length = len.plunge + len.ramp;
-  m.retracts = len.retracts;
+  report_lengths(measure(result.path), m);
   m.max_iso_distance = cut.max_dist;
   m.guaranteed_scallop = cut.max_scallop;
   m.guaranteed_overcut = job.budget.overcut();

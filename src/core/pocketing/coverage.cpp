@@ -105,17 +105,17 @@ std::vector<double> edt(const Raster& R, const std::vector<std::uint8_t>& seed) 
 }
 
 // The move from path point i-1 to i as a segment in XY.
-Seg move_seg(const PocketPath& path, std::size_t i) {
+Seg move_seg(const Toolpath& path, std::size_t i) {
   const P2 a{path.x[i - 1], path.y[i - 1]}, b{path.x[i], path.y[i]};
-  const auto k = static_cast<PocketMove>(path.kind[i]);
-  if (k == PocketMove::ArcCW || k == PocketMove::ArcCCW)
-    return Seg::arc_between({path.cx[i], path.cy[i]}, a, b, k == PocketMove::ArcCCW);
+  if (is_arc(path.kind[i]))
+    return Seg::arc_between({path.cx[i], path.cy[i]}, a, b,
+                            path.kind[i] == static_cast<std::uint8_t>(MoveKind::ArcCCW));
   return Seg::line(a, b);
 }
 
 }  // namespace
 
-CoverageReport pocket_coverage(const std::vector<Loop>& region, const PocketPath& path,
+CoverageReport pocket_coverage(const std::vector<Loop>& region, const Toolpath& path,
                                const CoverageParams& prm) {
   if (!(prm.tool_radius > 0)) throw InvalidArgument("tool_radius must be > 0");
   if (!(prm.cell > 0)) throw InvalidArgument("cell must be > 0");
@@ -171,7 +171,7 @@ CoverageReport pocket_coverage(const std::vector<Loop>& region, const PocketPath
   return rep;
 }
 
-ClearanceReport pocket_clearance(const std::vector<Loop>& region, const PocketPath& path,
+ClearanceReport pocket_clearance(const std::vector<Loop>& region, const Toolpath& path,
                                  double z_floor, double step, double z_tol) {
   if (!(step > 0)) throw InvalidArgument("step must be > 0");
   ClearanceReport rep;

@@ -193,7 +193,7 @@ double sample_node(TreeNode& node, const Sampler& sampler, const BallDrop& floor
 }  // namespace
 
 void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vector<Loop>& region,
-                           const PocketParams& p, PocketPath& path, PocketMetrics& m,
+                           const PocketParams& p, Toolpath& path, PocketMetrics& m,
                            const ProgressSlice& progress) {
   {
     // The tolerances against the region's extent (isocam/work_budget.h).
@@ -254,11 +254,11 @@ void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vec
       const P3 from{path.x.back(), path.y.back(), path.z.back()};
       std::vector<P3> link;
       sampler.chord(from, s0, 0, link);
-      for (const P3& q : link) path.add(PocketMove::Feed, q.x, q.y, q.z);
+      for (const P3& q : link) path.add(MoveKind::Feed, q.x, q.y, q.z);
       ++m.feed_links;
     }
     for (std::size_t i = 1; i < pts.size(); ++i)
-      path.add(PocketMove::Feed, pts[i].x, pts[i].y, pts[i].z);
+      path.add(MoveKind::Feed, pts[i].x, pts[i].y, pts[i].z);
     ++m.loops;
     first = false;
   }

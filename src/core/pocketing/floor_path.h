@@ -62,7 +62,7 @@ double path_interval(const BallDrop& floor, const BallDrop::Contact& c, P2 acros
 // smallest along each node's loops, CL points by the plan-view deviation
 // (tolerance) and the floor deviation (floor_tolerance).
 void sculptured_floor_pass(const std::vector<TopoDS_Face>& faces, const std::vector<Loop>& region,
-                           const PocketParams& p, PocketPath& path, PocketMetrics& m,
+                           const PocketParams& p, Toolpath& path, PocketMetrics& m,
                            const ProgressSlice& progress);
 
 }  // namespace isocam::pocket

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 
 #include "isocam/errors.h"
@@ -12,37 +11,6 @@
 namespace isocam {
 
 using namespace pocket;
-
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}
-
-void PocketPath::add(PocketMove k, double px, double py, double pz) {
-  kind.push_back(static_cast<std::uint8_t>(k));
-  x.push_back(px);
-  y.push_back(py);
-  z.push_back(pz);
-  cx.push_back(kNaN);
-  cy.push_back(kNaN);
-}
-
-void PocketPath::add_arc(bool ccw, double px, double py, double pz, double ccx, double ccy) {
-  kind.push_back(static_cast<std::uint8_t>(ccw ? PocketMove::ArcCCW : PocketMove::ArcCW));
-  x.push_back(px);
-  y.push_back(py);
-  z.push_back(pz);
-  cx.push_back(ccx);
-  cy.push_back(ccy);
-}
-
-void PocketPath::append(const PocketPath& o) {
-  kind.insert(kind.end(), o.kind.begin(), o.kind.end());
-  x.insert(x.end(), o.x.begin(), o.x.end());
-  y.insert(y.end(), o.y.begin(), o.y.end());
-  z.insert(z.end(), o.z.begin(), o.z.end());
-  cx.insert(cx.end(), o.cx.begin(), o.cx.end());
-  cy.insert(cy.end(), o.cy.begin(), o.cy.end());
-}
 
 namespace pocket {
 
@@ -113,7 +81,7 @@ void check_plan_budget(const std::vector<Loop>& region, const PocketParams& p, s
   check_work_budget(per_level * static_cast<double>(levels), p.max_moves, how.str());
 }
 
-void check_path_budget(const PocketPath& path, const PocketParams& p) {
+void check_path_budget(const Toolpath& path, const PocketParams& p) {
   if (static_cast<double>(path.size()) > p.max_moves)
     check_work_budget(static_cast<double>(path.size()), p.max_moves, "the path computed so far");
 }
@@ -139,20 +107,20 @@ FlatPlan make_flat_plan(const std::vector<Loop>& region, const PocketParams& p, 
   return plan;
 }
 
-void move_to_start(PocketPath& path, P2 s, double z, LinkKind link, double safe_z) {
+void move_to_start(Toolpath& path, P2 s, double z, LinkKind link, double safe_z) {
   if (link == LinkKind::Feed) {
     if (path.size() > 0 && std::hypot(path.x.back() - s.x, path.y.back() - s.y) > 0)
-      path.add(PocketMove::Feed, s.x, s.y, z);
+      path.add(MoveKind::Feed, s.x, s.y, z);
     return;
   }
-  if (path.size() > 0) path.add(PocketMove::Rapid, path.x.back(), path.y.back(), safe_z);
-  path.add(PocketMove::Rapid, s.x, s.y, safe_z);
-  path.add(PocketMove::Plunge, s.x, s.y, z);
+  if (path.size() > 0) path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe_z);
+  path.add(MoveKind::Rapid, s.x, s.y, safe_z);
+  path.add(MoveKind::Plunge, s.x, s.y, z);
 }
 
-void emit_seg_flat(PocketPath& path, const Seg& s, double z, double min_chord) {
+void emit_seg_flat(Toolpath& path, const Seg& s, double z, double min_chord) {
   if (s.kind == SegKind::Line) {
-    path.add(PocketMove::Feed, s.b.x, s.b.y, z);
+    path.add(MoveKind::Feed, s.b.x, s.b.y, z);
     return;
   }
   // Arcs of at most a half turn: a G2/G3 is exact, but one whose end comes
@@ -163,13 +131,13 @@ void emit_seg_flat(PocketPath& path, const Seg& s, double z, double min_chord) {
     if (k + 1 == n) piece.b = s.b;
     const P2 from{path.x.back(), path.y.back()};
     if (dist(from, piece.b) < min_chord)
-      path.add(PocketMove::Feed, piece.b.x, piece.b.y, z);
+      path.add(MoveKind::Feed, piece.b.x, piece.b.y, z);
     else
       path.add_arc(s.sweep > 0, piece.b.x, piece.b.y, z, s.c.x, s.c.y);
   }
 }
 
-void emit_flat_plan(const FlatPlan& plan, double z, const PocketParams& p, PocketPath& path,
+void emit_flat_plan(const FlatPlan& plan, double z, const PocketParams& p, Toolpath& path,
                     PocketMetrics& m) {
   const bool climb = p.direction == CutDirection::Climb;
   bool first = true;
@@ -198,40 +166,11 @@ void emit_flat_plan(const FlatPlan& plan, double z, const PocketParams& p, Pocke
   }
 }
 
-void measure_path(const PocketPath& path, PocketMetrics& m) {
-  m.cutting_length = m.rapid_length = m.plunge_length = 0.0;
-  m.retracts = m.arcs = m.cl_points = 0;
-  for (std::size_t i = 1; i < path.size(); ++i) {
-    const double dx = path.x[i] - path.x[i - 1], dy = path.y[i] - path.y[i - 1];
-    const double dz = path.z[i] - path.z[i - 1];
-    const double chord = std::sqrt(dx * dx + dy * dy + dz * dz);
-    switch (static_cast<PocketMove>(path.kind[i])) {
-      case PocketMove::Feed:
-        m.cutting_length += chord;
-        ++m.cl_points;
-        break;
-      case PocketMove::ArcCW:
-      case PocketMove::ArcCCW: {
-        const P2 c{path.cx[i], path.cy[i]};
-        const P2 a{path.x[i - 1], path.y[i - 1]}, b{path.x[i], path.y[i]};
-        const bool ccw = path.kind[i] == static_cast<std::uint8_t>(PocketMove::ArcCCW);
-        double sw = ccw ? wrap_2pi(angle_of(b - c) - angle_of(a - c))
-                        : wrap_2pi(angle_of(a - c) - angle_of(b - c));
-        if (sw == 0.0) sw = kTwoPi;
-        m.cutting_length += dist(a, c) * sw;
-        ++m.cl_points;
-        ++m.arcs;
-        break;
-      }
-      case PocketMove::Plunge:
-        m.plunge_length += chord;
-        break;
-      case PocketMove::Rapid:
-        m.rapid_length += chord;
-        if (dz > 0 && std::abs(dx) + std::abs(dy) < 1e-12) ++m.retracts;
-        break;
-    }
-  }
+void measure_path(const Toolpath& path, PocketMetrics& m) {
+  const PathLengths len = measure(path);
+  report_lengths(len, m);
+  m.arcs = len.arcs;
+  m.cl_points = len.cutting_moves;
 }
 
 }  // namespace pocket

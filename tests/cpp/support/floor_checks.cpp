@@ -41,14 +41,14 @@ double capsule_bottom(const Capsule& c, double x, double y, double r) {
 
 }  // namespace
 
-FloorMeasure measure_floor(const PocketPath& path, double r, const std::vector<Loop>& where,
+FloorMeasure measure_floor(const Toolpath& path, double r, const std::vector<Loop>& where,
                            const std::function<double(double, double)>& floor_z, double step) {
   std::vector<Seg> wsegs;
   for (const Loop& l : where) wsegs.insert(wsegs.end(), l.begin(), l.end());
   const pocket::WindingIndex inside(wsegs);
   std::vector<Capsule> caps;
   for (std::size_t i = 1; i < path.size(); ++i)
-    if (path.kind[i] == static_cast<std::uint8_t>(PocketMove::Feed))
+    if (path.kind[i] == static_cast<std::uint8_t>(MoveKind::Feed))
       caps.push_back(
           {path.x[i - 1], path.y[i - 1], path.z[i - 1] + r, path.x[i], path.y[i], path.z[i] + r});
   // Grid of capsules by their plan bounding boxes.

@@ -23,7 +23,7 @@ struct FloorMeasure {
 // Samples (x, y) on a grid of `step` over the floor points a ball can
 // touch: those whose ball centre, (x, y) + R n(x, y) in plan, lies inside
 // `centres` (the region shrunk by R; n from the floor's gradient).
-FloorMeasure measure_floor(const PocketPath& path, double ball_radius,
+FloorMeasure measure_floor(const Toolpath& path, double ball_radius,
                            const std::vector<Loop>& centres,
                            const std::function<double(double, double)>& floor_z, double step);
 

@@ -8,7 +8,7 @@
 #include "pocketing/geom2d.h"
 
 namespace isocam::test {
-int bad_arcs(const std::vector<Loop>& region, const PocketPath& path, double z, double tol,
+int bad_arcs(const std::vector<Loop>& region, const Toolpath& path, double z, double tol,
              int& checked) {
   std::vector<Seg> segs;
   for (const Loop& l : region) segs.insert(segs.end(), l.begin(), l.end());
@@ -17,14 +17,14 @@ int bad_arcs(const std::vector<Loop>& region, const PocketPath& path, double z, 
   int bad = 0;
   checked = 0;
   for (std::size_t i = 1; i < path.size(); ++i) {
-    const auto k = static_cast<PocketMove>(path.kind[i]);
-    if (k != PocketMove::ArcCW && k != PocketMove::ArcCCW) continue;
+    if (!is_arc(path.kind[i])) continue;
     if (std::abs(path.z[i] - z) > 1e-9) continue;
     ++checked;
     const P2 c{path.cx[i], path.cy[i]}, a{path.x[i - 1], path.y[i - 1]}, b{path.x[i], path.y[i]};
     const double ra = std::hypot(a.x - c.x, a.y - c.y), rb = std::hypot(b.x - c.x, b.y - c.y);
     bool ok = std::abs(ra - rb) <= tol;
-    const Seg arc = Seg::arc_between(c, a, b, k == PocketMove::ArcCCW);
+    const Seg arc =
+        Seg::arc_between(c, a, b, path.kind[i] == static_cast<std::uint8_t>(MoveKind::ArcCCW));
     const double d0 = boundary_distance(region, a);
     for (double t : {0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
       if (std::abs(boundary_distance(region, arc.at(t)) - d0) > tol) ok = false;

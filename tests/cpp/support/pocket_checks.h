@@ -18,7 +18,7 @@ namespace isocam::test {
 // model size): an exact arc of an offset profile, not the
 // complementary arc or a wrong radius. Returns the number of bad arcs and
 // counts the arcs checked.
-int bad_arcs(const std::vector<Loop>& region, const PocketPath& path, double z, double tol,
+int bad_arcs(const std::vector<Loop>& region, const Toolpath& path, double z, double tol,
              int& checked);
 
 struct CaseReport {

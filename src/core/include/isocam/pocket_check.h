@@ -7,8 +7,8 @@
 
 #include <vector>
 
-#include "isocam/pocketing.h"
 #include "isocam/profile2d.h"
+#include "isocam/toolpath.h"
 
 namespace isocam {
 
@@ -36,7 +36,7 @@ struct CoverageReport {
   double worst_x = 0.0, worst_y = 0.0;  // an uncut reachable cell (if any)
   long cells = 0;
 };
-CoverageReport pocket_coverage(const std::vector<Loop>& region, const PocketPath& path,
+CoverageReport pocket_coverage(const std::vector<Loop>& region, const Toolpath& path,
                                const CoverageParams& params);
 
 // Tool-centre clearance of the moves at the floor height (cutting moves and
@@ -47,7 +47,7 @@ struct ClearanceReport {
   long outside = 0;  // samples outside the region
   double worst_x = 0.0, worst_y = 0.0;
 };
-ClearanceReport pocket_clearance(const std::vector<Loop>& region, const PocketPath& path,
+ClearanceReport pocket_clearance(const std::vector<Loop>& region, const Toolpath& path,
                                  double z_floor, double step, double z_tolerance = 1e-6);
 
 }  // namespace isocam

@@ -26,12 +26,12 @@
 #pragma once
 
 #include <TopoDS_Shape.hxx>
-#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "isocam/profile2d.h"
 #include "isocam/progress.h"
+#include "isocam/toolpath.h"
 #include "isocam/work_budget.h"
 
 namespace isocam {
@@ -40,29 +40,6 @@ enum class CutDirection {
   Climb,         // material on the right of the travel (spindle M3)
   Conventional,  // the reverse
 };
-
-/** @name Output: moves with circular arcs */
-///@{
-enum class PocketMove : std::uint8_t {
-  Rapid = 0,   // G0
-  Feed = 1,    // G1 at horizontal feed
-  Plunge = 2,  // G1 at vertical feed
-  ArcCW = 3,   // G2 in the XY plane about (cx, cy), z constant
-  ArcCCW = 4,  // G3
-};
-
-// Move i goes from the end of move i-1 to (x, y, z)[i]; arcs have their
-// centre in (cx, cy)[i] (NaN for other moves). Tool-tip coordinates, mm.
-struct PocketPath {
-  std::vector<std::uint8_t> kind;
-  std::vector<double> x, y, z, cx, cy;
-
-  std::size_t size() const { return kind.size(); }
-  void add(PocketMove k, double px, double py, double pz);
-  void add_arc(bool ccw, double px, double py, double pz, double ccx, double ccy);
-  void append(const PocketPath& other);
-};
-///@}
 
 struct PocketParams {
   double tool_radius = 3.0;       // mm, > 0
@@ -84,7 +61,7 @@ struct PocketMetrics {
   double cutting_length = 0.0;  // feed and arc moves, links included (mm)
   double rapid_length = 0.0;
   double plunge_length = 0.0;
-  int retracts = 0;           // rapids straight up
+  int retracts = 0;           // lifts straight up (measure(), isocam/toolpath.h)
   int feed_links = 0;         // loop-to-loop links cut without a retract
   int loops = 0;              // profiles cut (all levels)
   int levels = 0;             // z levels
@@ -98,8 +75,10 @@ struct PocketMetrics {
   std::vector<std::string> messages;
 };
 
+// The path has G2/G3 arcs (MoveKind::ArcCW/ArcCCW, centres in path.cx/cy)
+// where the profile has circular arcs; rapids, feeds and plunges otherwise.
 struct PocketResult {
-  PocketPath path;
+  Toolpath path;
   PocketMetrics metrics;
 };
 
