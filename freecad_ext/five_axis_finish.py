@@ -350,9 +350,6 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
                 time.monotonic() - started,
             )
         )
-        for res in results:
-            for warning in res.warnings:
-                log.warning("%s: %s" % (obj.Label, warning))
 
     def _compute(self, obj, core):
         tc = obj.ToolController
@@ -374,11 +371,13 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         if not picked:
             raise IsoCAMError("no faces picked: set Base to one or more faces of the Job's model")
         params = _params(obj, core, float(tool.Diameter) / 2.0)
-        results = []
-        for base, faces in picked:
-            res = self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
-            if len(res.kind) > 0:
-                results.append(res)
+
+        def run(base, faces):
+            return self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
+
+        # A face the core skips is a warning in the report view, the other
+        # faces are finished (op_base.run_each_model).
+        results = op_base.run_each_model(core, obj, picked, run, log)
         if not results:
             raise IsoCAMError("the core returned no moves for the picked faces")
         return results

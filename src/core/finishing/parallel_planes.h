@@ -2,6 +2,8 @@
 // Elber & Cohen, Figures 2b and 3b): what adaptive isocurves are compared with.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "finishing/coverage.h"
@@ -26,6 +28,9 @@ struct PlanePieces {
   // Largest first-order distance between adjacent passes where the ball
   // cuts (IsoMetrics::max_iso_distance for ParallelPlanes).
   double max_pass_distance = 0.0;
+  // Per face: why the geometry defeated it (face_failure.h), its pieces left
+  // out; nothing if it did not.
+  std::vector<std::optional<std::string>> failed;
 };
 
 // The pieces of the planes of constant x or y (params.plane_axis; Auto: the
@@ -38,8 +43,9 @@ struct PlanePieces {
 // clearance model exactly where the ball would come closer than r -
 // chord_tolerance - model.tolerance() to it. Faces are computed on
 // params.threads threads; the result does not depend on their number.
-// Throws GeometryError naming the face if OpenCASCADE fails on it, Cancelled
-// if the progress asks.
+// A face that OpenCASCADE or the trimmed domain fails on is left out, named
+// in `failed` (the others keep their planes); throws Cancelled if the
+// progress asks.
 PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double delta,
                                   const IsoParams& params, const ClearanceModel& model,
                                   Progress* progress);

@@ -199,9 +199,13 @@ struct IsoResult {
   Toolpath path;
   IsoMetrics metrics;
   std::vector<SubIsocurve> curves;               // the coverage, in machining order
-  std::vector<IsoDirection> face_direction;      // direction used per picked face
+  std::vector<IsoDirection> face_direction;      // direction used per picked face (given order)
   std::vector<std::string> warnings;             // e.g. a face that could not be protected
   IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes: the axis used (X or Y)
+  // The picked faces skipped (indices in the shape, in the order given):
+  // the geometry defeated a phase on them (see adaptive_isocurve() below);
+  // no path on them, and a warning each says why.
+  std::vector<int> skipped_faces;
 };
 
 // ParallelPlanes (the baseline the adaptive isocurves are compared with):
@@ -254,9 +258,20 @@ double stepover_for_scallop(double ball_radius, double scallop_height);
 // r finite and > 0, 0 <= delta <= 2 r, else InvalidArgument.
 double scallop_for_stepover(double ball_radius, double delta);
 
-// Throws InvalidArgument for bad parameters, an out-of-range or duplicate
-// face index, or an empty shape; GeometryError for a degenerate face or when
-// the recursion guards trip; Cancelled if progress->cancel_requested.
+// Per-face failures (ENGINEERING.md, habit 4): a picked face whose geometry
+// defeats the job -- degenerate, OpenCASCADE failing on it, its planning
+// tripping a guard (max_depth, min_param_gap, the uniform spacing) -- is
+// skipped: no path on it, its index in `skipped_faces`, a warning naming it
+// ("face N (FaceN+1)") and the reason, and the other faces are finished as
+// if it had not been picked. It stays in the clearance model if it could be
+// built there (the ball is kept clear of it); otherwise the warning says it
+// is not protected. Under Auto a direction that fails beside one that does
+// not is left out with a warning. Its entry of `face_direction` is Auto.
+//
+// Throws InvalidArgument for bad parameters (the work budget included), an
+// out-of-range or duplicate face index, or an empty shape; GeometryError,
+// naming every face with its reason, only when every picked face is
+// skipped; Cancelled if progress->cancel_requested.
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
                             const IsoParams& params, Progress* progress = nullptr);
 
