@@ -139,7 +139,12 @@ _OUTPUTS = (
             "everything included: the cusp of the largest iso-distance of "
             "every pair of adjacent curves on the largest curvature across "
             "the feed there, for centres off the offset by the chords and the "
-            "rounding of the posted coordinates, plus that (<= ScallopHeight)",
+            "rounding of the posted coordinates, plus that (<= ScallopHeight). "
+            "ParallelPlanes: per face, the cusp of its largest pass spacing "
+            "(MaxIsoDistance) on its most concave ground, which exceeds "
+            "ScallopHeight where the planes run steeply; the ball radius means "
+            "no bound (on walls the passes are too far apart for the balls to "
+            "meet). ConstantScallop: from the spacing measured between its paths.",
         ),
     ),
     (

@@ -348,11 +348,14 @@ PatternCut cut_parallel_planes(ModelFaces& mf, const JobPlan& job, const Clearan
   result.metrics.lower_bound_length = lower_bound_of(mf, job.params);
   PatternCut out;
   out.max_dist = cut.max_pass_distance;
-  // Not a certificate: the flat-ground scallop of the largest pass
-  // distance (see the header).
-  const double e = job.budget.centre_error();
-  const double r = job.params.ball_radius;
-  out.max_scallop = e + scallop_for_stepover(r - e, std::min(out.max_dist, 2 * (r - e)));
+  // Per face, the cusp of its largest pass distance on its most concave
+  // ground (stepover.h; see the header).
+  for (std::size_t k = 0; k < live.size(); ++k)
+    if (!cut.failed[k])
+      out.max_scallop = std::max(
+          out.max_scallop,
+          plane_pass_scallop(mf.face(live[k]).grid, &*mf.face(live[k]).trim, job.params.ball_radius,
+                             cut.face_pass_distance[k], job.budget.centre_error()));
   out.pieces = std::move(cut.pieces);
   return out;
 }

@@ -335,9 +335,11 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
   if (best_axis >= 0) best_axis = axes[std::size_t(best_axis)];
   out.axis = best_axis == 1 ? IsoPlaneAxis::Y : IsoPlaneAxis::X;
   std::vector<std::pair<int, CutPiece>> pieces;
+  out.face_pass_distance.assign(faces.size(), 0.0);
   for (std::size_t k = 0; k < best.faces.size(); ++k) {
     if (out.failed[k]) continue;
     FaceCut& f = best.faces[k];
+    out.face_pass_distance[k] = delta * f.max_factor;
     out.curves += f.curves;
     out.unreachable_length += f.unreachable;
     out.unreachable_from_above += f.from_above;

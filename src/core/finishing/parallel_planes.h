@@ -26,8 +26,10 @@ struct PlanePieces {
   double unreachable_length = 0.0;      // centre path cut away: no clearance
   double unreachable_from_above = 0.0;  // of it: the column above not clear
   // Largest first-order distance between adjacent passes where the ball
-  // cuts (IsoMetrics::max_iso_distance for ParallelPlanes).
+  // cuts (IsoMetrics::max_iso_distance for ParallelPlanes), and the same per
+  // face (0 for a face that failed).
   double max_pass_distance = 0.0;
+  std::vector<double> face_pass_distance;
   // Per face: why the geometry defeated it (face_failure.h), its pieces left
   // out; nothing if it did not.
   std::vector<std::optional<std::string>> failed;

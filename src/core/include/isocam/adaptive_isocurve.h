@@ -173,7 +173,10 @@ struct IsoMetrics {
   // cusp of its largest iso-distance on ground of the largest curvature
   // across the feed there (sampled per patch, finishing/stepover.h), for
   // centres off the exact offset by chord + posted rounding, plus that
-  // error. <= scallop_height under either bound.
+  // error. <= scallop_height under either bound for Adaptive and Uniform;
+  // ParallelPlanes and ConstantScallop: the same kind of bound from what
+  // they measured, which can exceed it (see below); the ball radius means
+  // no bound (the balls of adjacent passes do not meet).
   double guaranteed_scallop = 0.0;
   // The deepest cut below the design: chord + gouge tolerance + posted
   // rounding, <= overcut_tolerance.
@@ -229,8 +232,18 @@ struct IsoResult {
 //    vertices of the traced plane curves (where they cross the lattice) and
 //    the ends of the pieces cut. It equals delta on flat ground and grows
 //    without bound on walls facing the axis (capped at 1e6 delta), which is
-//    the pattern's weakness (the paper's Figure 3b); `guaranteed_scallop` is
-//    the flat-ground scallop of that spacing (at most the ball radius).
+//    the pattern's weakness (the paper's Figure 3b);
+//  - `guaranteed_scallop` is a bound from that spacing, the same kind as
+//    the other patterns' (measured where they measure): per face, e plus
+//    the cusp of balls of radius r - e whose centres are the face's largest
+//    pass distance apart, on the face's most concave ground in any
+//    direction (for a given centre distance concave ground leaves the
+//    highest cusp, convex ground less than flat; plane_pass_scallop(),
+//    finishing/stepover.h), the largest over the faces. Nothing spaces the
+//    planes for it, so it exceeds scallop_height wherever the planes run
+//    steeply or over concave ground, and it is the ball radius r -- no
+//    bound: the balls of adjacent passes do not meet -- where the spacing
+//    exceeds about 2 r (walls).
 
 // ConstantScallop: per face, a start path on the face's boundary isocurve
 // (v = vmin for V, u = umin for U; Auto: the direction with the shorter
