@@ -583,8 +583,6 @@ void certify(IsoResult& result, const PatternCut& cut, const JobPlan& job) {
   m.cutting_time = times.feed;
 }
 
-}  // namespace
-
 // The picked faces skipped so far into the result; if that is every one,
 // the job is an error naming each with its reason.
 void record_skipped(const ModelFaces& mf, const std::vector<int>& faces, IsoResult& result) {
@@ -593,6 +591,8 @@ void record_skipped(const ModelFaces& mf, const std::vector<int>& faces, IsoResu
     if (!mf.live(i)) result.skipped_faces.push_back(faces[i]);
   if (result.skipped_faces.size() == faces.size()) throw_every_face_failed(mf.skipped);
 }
+
+}  // namespace
 
 // The driver: the job's numbers, the model, the pattern's pieces, linking
 // (coverage.h: link_pieces), the certificate. A picked face that a phase
