@@ -23,7 +23,9 @@ along the feed (and TiltAngle across it); on concave ground tighter than the
 flat bottom allows, the core raises the lead there (up to MaxLeadAngle) so
 that the heel does not dig in (rear gouge), and says so in the report view.
 Errors follow the other IsoCAM ops: the message names the property or tool,
-the op's Path is emptied and the op is marked invalid.
+the op's Path is emptied and the op is marked invalid. A picked face the
+core cannot machine is skipped with a warning in the report view naming it,
+and the other faces are finished (op_base.run_each_model).
 """
 
 import time
