@@ -7,9 +7,12 @@ turns the returned flat move arrays into ``Path.Command``s. It never writes
 the user's properties; it only writes the read-only "Certificate" properties
 (the core's metrics) after each run and prints them to the report view.
 
-Errors (habit 4, one error model). A bad input -- a tool that is not a ball
-end, no face picked, a parameter out of range (the core's ``ValueError``), a
-face the core cannot machine (its ``RuntimeError``), a cancel requested through
+Errors (habit 4, one error model). A picked face the core cannot machine (a
+degenerate face, a guard tripped on it) is skipped by the core with a
+warning, which goes to the report view; the other faces are finished. A bad
+input -- a tool that is not a ball end, no face picked, a parameter out of
+range (the core's ``ValueError``), no picked face the core can machine (its
+``RuntimeError``), a cancel requested through
 ``op.Proxy.active_progress.cancel()`` -- is logged
 with a message that names the tool, property or face; the op's Path is
 emptied, its certificate cleared, and :class:`IsoCAMError` is raised out of
@@ -136,7 +139,12 @@ _OUTPUTS = (
             "everything included: the cusp of the largest iso-distance of "
             "every pair of adjacent curves on the largest curvature across "
             "the feed there, for centres off the offset by the chords and the "
-            "rounding of the posted coordinates, plus that (<= ScallopHeight)",
+            "rounding of the posted coordinates, plus that (<= ScallopHeight). "
+            "ParallelPlanes: per face, the cusp of its largest pass spacing "
+            "(MaxIsoDistance) on its most concave ground, which exceeds "
+            "ScallopHeight where the planes run steeply; the ball radius means "
+            "no bound (on walls the passes are too far apart for the balls to "
+            "meet). ConstantScallop: from the spacing measured between its paths.",
         ),
     ),
     (
@@ -426,9 +434,6 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
         _write_outputs(obj, metrics, _directions_used(results))
         _print_certificate(obj, metrics, time.monotonic() - started)
         _warn_guarantee(obj, metrics)
-        for res in results:
-            for warning in res.warnings:
-                log.warning("%s: %s" % (obj.Label, warning))
 
     # -- steps of opExecute -------------------------------------------------
 
@@ -456,15 +461,17 @@ class ObjectAdaptiveIsocurve(IsoCAMOp):
         return time.strftime("%H:%M:%S", time.gmtime(seconds))
 
     def _compute(self, obj, core):
-        """Run the core once per model object that has picked faces."""
+        """Run the core once per model object that has picked faces
+        (op_base.run_each_model: a face the core skips is a warning in the
+        report view, the other faces are finished)."""
         _check_ball_end(obj)
         picked = _picked_faces(obj)
         params = _iso_params(obj, core, self.radius)
-        results = []
-        for base, faces in picked:
-            brep = base.Shape.exportBrepToString()
-            results.append(self._run_core(core, brep, faces, params, base))
-        results = [r for r in results if len(r.kind) > 0]
+
+        def run(base, faces):
+            return self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
+
+        results = op_base.run_each_model(core, obj, picked, run, log)
         if not results:
             raise IsoCAMError(
                 translate("IsoCAM", "the core returned no moves for the picked faces")

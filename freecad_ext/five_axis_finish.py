@@ -23,7 +23,9 @@ along the feed (and TiltAngle across it); on concave ground tighter than the
 flat bottom allows, the core raises the lead there (up to MaxLeadAngle) so
 that the heel does not dig in (rear gouge), and says so in the report view.
 Errors follow the other IsoCAM ops: the message names the property or tool,
-the op's Path is emptied and the op is marked invalid.
+the op's Path is emptied and the op is marked invalid. A picked face the
+core cannot machine is skipped with a warning in the report view naming it,
+and the other faces are finished (op_base.run_each_model).
 """
 
 import time
@@ -342,9 +344,6 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
                 time.monotonic() - started,
             )
         )
-        for res in results:
-            for warning in res.warnings:
-                log.warning("%s: %s" % (obj.Label, warning))
 
     def _compute(self, obj, core):
         tc = obj.ToolController
@@ -366,11 +365,13 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         if not picked:
             raise IsoCAMError("no faces picked: set Base to one or more faces of the Job's model")
         params = _params(obj, core, float(tool.Diameter) / 2.0)
-        results = []
-        for base, faces in picked:
-            res = self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
-            if len(res.kind) > 0:
-                results.append(res)
+
+        def run(base, faces):
+            return self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
+
+        # A face the core skips is a warning in the report view, the other
+        # faces are finished (op_base.run_each_model).
+        results = op_base.run_each_model(core, obj, picked, run, log)
         if not results:
             raise IsoCAMError("the core returned no moves for the picked faces")
         return results

@@ -94,6 +94,36 @@ def picked_faces(obj, what=None):
     return picked
 
 
+def run_each_model(core, obj, picked, run, oplog):
+    """``run(base, faces)`` -- the core on one model object's picked faces --
+    for each of `picked`; the results that have moves.
+
+    Habit 4, as Spiral Pocket reports its faces: the core skips a picked
+    face whose geometry defeats it and says so in the result's warnings,
+    which go to the report view (through the op's log `oplog`) naming the op
+    and the model. A model on which every picked face fails (the core's
+    RuntimeError) is such a warning too while another model is left; only
+    when every model fails is it raised. A cancel is raised at once.
+    """
+    results, failed = [], []
+    for base, faces in picked:
+        try:
+            res = run(base, faces)
+        except RuntimeError as exc:
+            if isinstance(exc, core.CancelledError) or len(picked) == 1:
+                raise
+            failed.append(exc)
+            oplog.warning("%s: %s" % (obj.Label, exc))
+            continue
+        for warning in res.warnings:
+            oplog.warning("%s: %s: %s" % (obj.Label, base.Label, warning))
+        if len(res.kind) > 0:
+            results.append(res)
+    if failed and len(failed) == len(picked):
+        raise RuntimeError("; ".join(str(exc) for exc in failed))
+    return results
+
+
 # The work budget (src/core isocam/work_budget.h: kDefaultMaxMoves).
 DEFAULT_MAX_MOVES = 1000000
 

@@ -22,6 +22,7 @@ struct PyFiveAxisResult {
   py::array_t<double> xyz, ijk, ac;
   FiveAxisMetrics metrics;
   std::vector<std::string> warnings;
+  std::vector<int> skipped_faces;
 };
 
 PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
@@ -42,6 +43,7 @@ PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
   out.ac = py_path::columns(r.a, r.c, nullptr);
   out.metrics = r.metrics;
   out.warnings = std::move(r.warnings);
+  out.skipped_faces = std::move(r.skipped_faces);
   return out;
 }
 
@@ -101,7 +103,10 @@ void bind_five_axis(py::module_& m) {
       .def_readonly("ac", &PyFiveAxisResult::ac,
                     "float64 (N,2): A, C (degrees), axis = (sinA sinC, -sinA cosC, cosA)")
       .def_readonly("metrics", &PyFiveAxisResult::metrics)
-      .def_readonly("warnings", &PyFiveAxisResult::warnings);
+      .def_readonly("warnings", &PyFiveAxisResult::warnings)
+      .def_readonly("skipped_faces", &PyFiveAxisResult::skipped_faces,
+                    "picked faces (0-based indices in the shape) the geometry defeated: no path "
+                    "on them; `warnings` says why");
 
   m.def(
       "five_axis_finish",

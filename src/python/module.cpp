@@ -38,6 +38,7 @@ struct PyIsoResult {
   std::vector<SubIsocurve> curves;
   std::vector<std::string> warnings;
   IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;
+  std::vector<int> skipped_faces;
 };
 
 PyIsoResult to_python(IsoResult&& r) {
@@ -49,6 +50,7 @@ PyIsoResult to_python(IsoResult&& r) {
   out.curves = std::move(r.curves);
   out.warnings = std::move(r.warnings);
   out.plane_axis = r.plane_axis;
+  out.skipped_faces = std::move(r.skipped_faces);
   return out;
 }
 
@@ -222,7 +224,10 @@ PYBIND11_MODULE(isocam_core, m) {
       .def_readonly("face_direction", &PyIsoResult::face_direction)
       .def_readonly("curves", &PyIsoResult::curves)
       .def_readonly("warnings", &PyIsoResult::warnings)
-      .def_readonly("plane_axis", &PyIsoResult::plane_axis, "ParallelPlanes: the axis used");
+      .def_readonly("plane_axis", &PyIsoResult::plane_axis, "ParallelPlanes: the axis used")
+      .def_readonly("skipped_faces", &PyIsoResult::skipped_faces,
+                    "picked faces (0-based indices in the shape) the geometry defeated: no path "
+                    "on them; `warnings` says why");
 
   py_path::bind_move_kinds(m);
 

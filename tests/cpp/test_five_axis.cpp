@@ -6,6 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRep_Builder.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
 #include <cmath>
 #include <gp_Pln.hxx>
@@ -124,6 +128,43 @@ void expect_refused(FiveAxisParams p, const std::string& name) {
     ADD_FAILURE() << "accepted " << name;
   } catch (const InvalidArgument& e) {
     EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+  }
+}
+
+// Habit 4: a degenerate picked face (all poles on one line, no area) beside
+// a good one is skipped with a warning naming it, and the good face is
+// finished as if picked alone; every picked face degenerate is an error.
+TEST(FiveAxis, DegenerateFaceBesideAGoodOneIsSkipped) {
+  TColgp_Array2OfPnt poles(1, 3, 1, 3);
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j) poles(i, j) = gp_Pnt(10.0 * i + j, 50, -40);
+  const TopoDS_Face bad = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  BRep_Builder b;
+  TopoDS_Compound shape;
+  b.MakeCompound(shape);
+  b.Add(shape, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp_Dir(0, 0, 1)), 0, 20, 0, 12));
+  b.Add(shape, bad);
+  FiveAxisParams p;
+  p.direction = IsoDirection::V;
+  const FiveAxisResult both = five_axis_finish(shape, {0, 1}, p);
+  const FiveAxisResult alone = five_axis_finish(shape, {0}, p);
+  EXPECT_EQ(both.skipped_faces, std::vector<int>{1});
+  int naming = 0;
+  for (const std::string& w : both.warnings)
+    if (w.find("Face2") != std::string::npos) {
+      ++naming;
+      EXPECT_NE(w.find("degenerate"), std::string::npos) << w;
+      EXPECT_NE(w.find("skipped"), std::string::npos) << w;
+    }
+  EXPECT_EQ(naming, 1);
+  ASSERT_GT(both.path.size(), 10u);
+  EXPECT_EQ(both.path.z, alone.path.z);
+  EXPECT_EQ(both.i, alone.i);
+  try {
+    five_axis_finish(shape, {1}, p);
+    ADD_FAILURE() << "no exception";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("Face2"), std::string::npos) << e.what();
   }
 }
 

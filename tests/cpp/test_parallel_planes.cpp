@@ -11,10 +11,13 @@
 #include <BRep_Tool.hxx>
 #include <GeomAPI_ProjectPointOnCurve.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <Geom_CylindricalSurface.hxx>
 #include <Geom_Surface.hxx>
+#include <TopoDS.hxx>
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <gp_Ax3.hxx>
 #include <gp_Pln.hxx>
 #include <iostream>
 #include <set>
@@ -432,6 +435,72 @@ TEST(ParallelPlanes, Figure2ComparedWithAdaptive) {
             << dense.metrics.max_iso_distance << " apart, coverage gap " << gap << "); pieces "
             << planes.metrics.sub_isocurves << " and " << dense.metrics.sub_isocurves << "\n";
   EXPECT_LT(gap, delta);
+}
+
+// A trough: the lower part of a cylinder of radius rho about the y axis
+// (80 mm long), its normal towards the axis (concave as the ball sees it).
+TopoDS_Face trough(double rho, double half_angle) {
+  Handle(Geom_CylindricalSurface) cyl = new Geom_CylindricalSurface(
+      gp_Ax3(gp_Pnt(0, 0, rho), gp_Dir(0, -1, 0), gp_Dir(1, 0, 0)), rho);
+  const double down = 1.5 * M_PI;  // the angle of the lowest line
+  const TopoDS_Face f =
+      BRepBuilderAPI_MakeFace(cyl, down - half_angle, down + half_angle, 0, 80, 1e-7).Face();
+  return TopoDS::Face(f.Reversed());
+}
+
+// The certificate of the planes is the cusp of centres that far apart on
+// the most concave ground (for a given centre distance the highest): on a
+// trough of radius rho, in closed form, the balls' centres on the circle of
+// radius rho - r, the cusp where two balls d apart meet, farthest from the
+// axis: rho - sqrt((rho - r)^2 - d^2/4) - sqrt(r^2 - d^2/4).
+TEST(ParallelPlanes, ScallopBoundOnConcaveGroundInClosedForm) {
+  const double rho = 12.0, r = 3.0;
+  const PatchGrid g = PatchGrid::from_face(trough(rho, 1.0), 0);
+  for (double d : {0.5, 1.0, 2.0}) {
+    const double exact =
+        rho - std::sqrt((rho - r) * (rho - r) - d * d / 4) - std::sqrt(r * r - d * d / 4);
+    // Above the flat cusp of the same centre distance.
+    EXPECT_GT(exact, scallop_for_stepover(r, d));
+    EXPECT_NEAR(plane_pass_scallop(g, nullptr, r, d, 0.0), exact, 1e-6 * exact) << d;
+    // With a centre error, the same as the cusp of the contact chord on S
+    // (centres d apart, contacts d / (1 + r kappa)) that the isocurve
+    // patterns use.
+    const double e = 0.003, kappa = -1.0 / rho;
+    EXPECT_NEAR(plane_pass_scallop(g, nullptr, r, d, e),
+                scallop_with_error(r, d / (1 + r * kappa), kappa, e), 1e-6 * exact)
+        << d;
+  }
+  // Centres farther apart than the circle of centres of that ground allows
+  // (radius rho - r = 1 here): no bound.
+  const PatchGrid tight = PatchGrid::from_face(trough(4.0, 1.0), 0);
+  EXPECT_NEAR(plane_pass_scallop(tight, nullptr, r, 1.5, 0.0),
+              1.0 - std::sqrt(1.0 - 0.5625) + r - std::sqrt(r * r - 0.5625), 1e-6);
+  EXPECT_EQ(plane_pass_scallop(tight, nullptr, r, 2.5, 0.0), r);
+  // On flat ground the flat cusp; balls that do not meet give r (no bound).
+  const PatchGrid flat = PatchGrid::from_face(
+      BRepBuilderAPI_MakeFace(gp_Pln(gp::Origin(), gp::DZ()), 0, 100, 0, 60).Face(), 0);
+  EXPECT_NEAR(plane_pass_scallop(flat, nullptr, r, 1.0, 0.0), scallop_for_stepover(r, 1.0), 1e-12);
+  EXPECT_NEAR(plane_pass_scallop(flat, nullptr, r, 7.0, 0.0), r, 1e-12);
+}
+
+// And it bounds the scallop measured on the path, on concave ground where
+// the flat-ground cusp of the largest pass distance (the value before) does
+// not.
+TEST(ParallelPlanes, GuaranteedScallopBoundsTheMeasuredOnATrough) {
+  const double r = 3.0, h = 0.05;
+  const TopoDS_Face f = trough(8.0, 0.6);
+  IsoParams p = plane_params(r, h, IsoPlaneAxis::X);
+  const IsoResult res = adaptive_isocurve(f, {0}, p);
+  const IsoMetrics& m = res.metrics;
+  const double e = m.chord_tolerance + 0.5 * std::sqrt(3.0) * p.posted_resolution;
+  const double before = e + scallop_for_stepover(r - e, m.max_iso_distance);
+  const test::ScallopCheck s = test::measure_scallop(f, res.path, r, 120, 0.02, 1.0);
+  std::cout << "trough: passes up to " << m.max_iso_distance << " apart, scallop measured " << s.max
+            << " <= guaranteed " << m.guaranteed_scallop << " (flat formula " << before << ")\n";
+  EXPECT_EQ(s.uncovered, 0);
+  EXPECT_GT(s.max, before);
+  EXPECT_LE(s.max, m.guaranteed_scallop);
+  EXPECT_LT(m.guaranteed_scallop, r);
 }
 
 }  // namespace

@@ -21,15 +21,15 @@ def load_shape(filename):
 
 
 class JobSetup:
-    """A new document with `filename`'s model, a Job on it and a 6 mm
+    """A new document with `filename`'s model (or `shape`), a Job on it and a 6 mm
     ball-end tool controller (the Job also brings FreeCAD's default flat
     end mill controller, "TC: Default Tool")."""
 
-    def __init__(self, name, filename="MAT.brep", ball_diameter=6.0):
+    def __init__(self, name, filename="MAT.brep", ball_diameter=6.0, shape=None):
         self.doc = FreeCAD.newDocument(name)
         self.doc_name = self.doc.Name
         self.model = self.doc.addObject("Part::Feature", "Model")
-        self.model.Shape = load_shape(filename)
+        self.model.Shape = shape if shape is not None else load_shape(filename)
         self.job = scripting.make_job(self.model)
         self.ball_diameter = ball_diameter
         self.ball_tc = scripting.make_ball_end_tool_controller(self.job, ball_diameter)

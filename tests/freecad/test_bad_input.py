@@ -8,6 +8,7 @@ Run: tests/freecad/run_in_freecad.sh tests/freecad/test_bad_input.py
 import unittest
 
 import FreeCAD
+import Part
 
 import fc_test_support as support
 from freecad_ext import adaptive_isocurve, scripting
@@ -136,6 +137,92 @@ class BadInputTest(unittest.TestCase):
         self.assertIn("no ball-end tool controller", str(caught.exception))
         self.assertEqual(sorted(o.Name for o in setup.doc.Objects), names)
         self.assertEqual(setup.job.Operations.Group, [])
+
+
+def _bezier_face(poles):
+    """The face of a Bezier surface through a square grid of poles."""
+    n = len(poles)
+    surface = Part.BezierSurface()
+    surface.increase(n - 1, n - 1)
+    for i, row in enumerate(poles):
+        for j, p in enumerate(row):
+            surface.setPole(i + 1, j + 1, FreeCAD.Vector(*p))
+    return Part.Face(surface)
+
+
+def _good_and_degenerate():
+    """A compound of a 20 x 20 mm saddle (Face1) and a face with all its
+    poles on one line, 40 mm below it (Face2: no area)."""
+    saddle = _bezier_face(
+        [[(10 * i, 10 * j, 2.0 * (i - 1) * (j - 1)) for j in range(3)] for i in range(3)]
+    )
+    degenerate = _bezier_face([[(10 * i + j, 50, -40) for j in range(3)] for i in range(3)])
+    return Part.makeCompound([saddle, degenerate])
+
+
+class BadFaceBesideGoodTest(unittest.TestCase):
+    """Habit 4: a picked face the core cannot machine is a warning in the
+    report naming it, the op is not in error and finishes the other face;
+    only when every picked face fails is the op in error."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.setup = support.JobSetup("IsoBadFace", shape=_good_and_degenerate())
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.setup.close()
+
+    def new_op(self, label, faces):
+        op = adaptive_isocurve.Create(
+            adaptive_isocurve.OP_NAME,
+            parentJob=self.setup.job,
+            toolController=self.setup.ball_tc,
+        )
+        op.Label = label
+        op.ScallopHeight = 0.05
+        op.Base = [(self.setup.clone, list(faces))]
+        return op
+
+    def recompute_logging(self):
+        """Recompute; the warnings the op sent to the report view."""
+        logged = []
+        original = adaptive_isocurve.log.warning
+
+        def record(message):
+            logged.append(str(message))
+            return original(message)
+
+        adaptive_isocurve.log.warning = record
+        try:
+            self.setup.doc.recompute()
+        finally:
+            adaptive_isocurve.log.warning = original
+        return logged
+
+    def test_the_good_face_is_finished_and_the_bad_one_reported(self):
+        op = self.new_op("GoodAndBad", ("Face1", "Face2"))
+        logged = self.recompute_logging()
+        self.assertNotIn("Invalid", op.State, op.getStatusString())
+        naming = [m for m in logged if "Face2" in m]
+        self.assertEqual(len(naming), 1, logged)
+        for fragment in ("GoodAndBad", "degenerate", "skipped", self.setup.clone.Label):
+            self.assertIn(fragment, naming[0])
+        self.assertFalse([m for m in logged if "Face1" in m], logged)
+        self.assertGreater(op.SubIsocurves, 0)
+        support.assert_ball_finishing_invariants(
+            self, op, self.setup.clone.Shape.Faces[0], self.setup.ball_diameter / 2
+        )
+        self.assertLessEqual(op.GuaranteedScallop.Value, 0.05 * (1 + 1e-6))
+
+    def test_only_the_bad_face_is_an_error_naming_it(self):
+        op = self.new_op("OnlyBad", ("Face2",))
+        self.setup.doc.recompute()
+        message = op.getStatusString()
+        self.assertIn("Invalid", op.State, message)
+        self.assertIn("Face2", message)
+        self.assertIn("no picked face could be finished", message)
+        self.assertEqual(len(op.Path.Commands), 0)
 
 
 if __name__ == "__main__":

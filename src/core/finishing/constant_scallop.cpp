@@ -4,12 +4,12 @@
 // constant_scallop.h for the contract).
 #include "finishing/constant_scallop.h"
 
-#include <Standard_Failure.hxx>
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <memory>
 
+#include "finishing/face_failure.h"
 #include "finishing/stepover.h"
 #include "finishing/task_pool.h"
 #include "isocam/errors.h"
@@ -327,6 +327,7 @@ struct FaceOut {
   std::shared_ptr<const PatchGrid> grid;
   IsoDirection dir = IsoDirection::V;
   double gap = 0.0, gap_scallop = 0.0;  // sample_coverage()
+  std::optional<std::string> failed;    // why the geometry defeated it (face_failure.h)
   // Meets the scallop asked (5% for what the samples miss) by its certificate.
   bool meets(double h) const { return std::max(paths.scallop, gap_scallop) <= 1.05 * h; }
 };
@@ -345,29 +346,36 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
     FaceOut& o = tried[k];
     o.dir = dirs[k % nd];
     const bool transposed = o.dir == IsoDirection::U;
-    try {
+    o.failed = face_failure(face.index, [&] {
       o.grid = std::make_shared<const PatchGrid>(transposed ? face.grid->transposed() : *face.grid);
       o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params, tracing.task(k));
       sample_coverage(*o.grid, *face.trim, transposed, *o.paths.index, params.ball_radius, flat,
                       o.paths.max_spacing, &o.gap, &o.gap_scallop);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
-    }
+    });
   });
   return tried;
 }
 
-// Phase 2: per face, the direction that meets the scallop by its
-// certificate, then the shorter one.
-std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h) {
+// Phase 2: per face, among the directions that did not fail (a failed one
+// beside another is a warning), the one that meets the scallop by its
+// certificate, then the shorter one; if all failed, the first failure.
+std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h,
+                            std::vector<std::string>* warnings) {
   std::vector<FaceOut> chosen(tried.size() / nd);
   for (std::size_t f = 0; f < chosen.size(); ++f) {
     std::size_t best = f * nd;
     for (std::size_t d = 1; d < nd; ++d) {
       const FaceOut &a = tried[f * nd + d], &b = tried[best];
       const bool ma = a.meets(h), mb = b.meets(h);
-      if ((ma && !mb) || (ma == mb && a.paths.length < b.paths.length)) best = f * nd + d;
+      if (a.failed) continue;
+      if (b.failed || (ma && !mb) || (ma == mb && a.paths.length < b.paths.length))
+        best = f * nd + d;
     }
+    for (std::size_t d = 0; d < nd && !tried[best].failed; ++d)
+      if (tried[f * nd + d].failed)
+        warnings->push_back(*tried[f * nd + d].failed + "; direction " +
+                            (tried[f * nd + d].dir == IsoDirection::U ? "U" : "V") +
+                            " left out, the other used");
     chosen[f] = std::move(tried[best]);
   }
   return chosen;
@@ -408,6 +416,11 @@ FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
 
 // Phase 4: one face's part of the result.
 void add_face(const FaceOut& o, FaceCut cut, int face_index, ScallopPieces* out) {
+  out->failed.push_back(o.failed);
+  if (o.failed) {
+    out->face_direction.push_back(IsoDirection::Auto);
+    return;
+  }
   const FacePaths& fp = o.paths;
   out->face_direction.push_back(o.dir);
   out->paths += static_cast<int>(fp.paths.size());
@@ -443,20 +456,17 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (params.direction != IsoDirection::Auto) dirs = {params.direction};
   const ProgressSlice all(progress);
-  std::vector<FaceOut> chosen =
-      choose(plan_faces(faces, dirs, width, params, all), dirs.size(), params.scallop_height);
+  ScallopPieces out;
+  std::vector<FaceOut> chosen = choose(plan_faces(faces, dirs, width, params, all), dirs.size(),
+                                       params.scallop_height, &out.warnings);
   std::vector<FaceCut> cut(faces.size());
   for_each_index(faces.size(), params.threads, [&](std::size_t f) {
     all.check();
-    try {
-      cut[f] = cut_face(&chosen[f], faces[f], params, model, all);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(faces[f].index) +
-                          ": OpenCASCADE failed: " + e.GetMessageString());
-    }
+    if (chosen[f].failed) return;
+    chosen[f].failed = face_failure(
+        faces[f].index, [&] { cut[f] = cut_face(&chosen[f], faces[f], params, model, all); });
   });
   all.report(0.95);
-  ScallopPieces out;
   for (std::size_t f = 0; f < faces.size(); ++f)
     add_face(chosen[f], std::move(cut[f]), faces[f].index, &out);
   return out;

@@ -43,6 +43,7 @@
 //    across seen between them (guaranteed_scallop).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,12 +71,15 @@ struct ScallopPieces {
   double guaranteed_scallop = 0.0;           // measured, see the header
   double max_width = 0.0;                    // the largest strip width used
   std::vector<std::string> warnings;
+  // Per face: why the geometry defeated it (face_failure.h; its direction
+  // Auto, nothing of it in the rest), nothing if it did not.
+  std::vector<std::optional<std::string>> failed;
 };
 
 // `width` null: ball_strip_width(r, h). Faces (and under Auto their two
 // directions) on params.threads threads; the result does not depend on
-// their number. Throws Cancelled if the progress asks, GeometryError naming
-// the face if OpenCASCADE fails on it.
+// their number. A face that OpenCASCADE or the trimmed domain fails on is
+// left out, named in `failed`; throws Cancelled if the progress asks.
 ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
                                       const IsoParams& params, const ClearanceModel& model,
                                       Progress* progress, const StripWidth& width = nullptr);

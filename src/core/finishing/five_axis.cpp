@@ -10,7 +10,6 @@
 #include <BRepGProp.hxx>
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
-#include <Standard_Failure.hxx>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -18,6 +17,7 @@
 #include <sstream>
 
 #include "finishing/coverage.h"
+#include "finishing/face_failure.h"
 #include "finishing/five_axis_tool.h"
 #include "finishing/scallop_front.h"
 #include "geometry/clearance.h"
@@ -500,6 +500,60 @@ void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& f
       num(area) + " mm^2 of faces at a strip width of about " + num(job.flat_width) + " mm");
 }
 
+// One picked face: the direction chosen (traced, measured), its paths
+// clipped to the face and posed. Throws what the geometry throws.
+struct FaceRun {
+  Traced best;
+  PoseOut posed;
+};
+
+FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice) {
+  const FiveAxisParams& p = job.p;
+  std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
+  if (p.direction != IsoDirection::Auto) dirs = {p.direction};
+  std::optional<PatchGrid> best_grid;
+  FaceRun out;
+  Traced& best = out.best;
+  bool best_transposed = false;
+  for (IsoDirection d : dirs) {
+    const bool tr = d == IsoDirection::U;
+    PatchGrid g = tr ? face.grid.transposed() : face.grid;
+    // Spaced for h' first; where the measured certificate exceeds it
+    // (the next path runs a little farther than the march went, where
+    // points were resampled, cut out or joined), again for a target
+    // scaled down by the excess (the cusp grows about linearly with the
+    // target), up to three times.
+    double target = job.h_eff;
+    Traced t;
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      t = trace_face(g, *face.trim, tr, job, target, slice);
+      if (t.cusp <= job.h_eff) break;
+      target *= 0.98 * job.h_eff / t.cusp;
+    }
+    // The direction that covers the face (no sampled gap wider than
+    // half the strip) and meets h' by its certificate, then the shorter.
+    auto meets = [&job](const Traced& x) {
+      return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
+    };
+    if (!best_grid || (meets(t) && !meets(best)) ||
+        (meets(t) == meets(best) && t.length < best.length)) {
+      best = std::move(t);
+      best_grid.emplace(std::move(g));
+      best_transposed = tr;
+    }
+  }
+  const PatchGrid& g = *best_grid;
+  const std::vector<Run> clipped =
+      clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
+  PoseOut& posed = out.posed;
+  const Poser poser(g, *face.trim, best_transposed, job);
+  for (const Run& r : clipped) {
+    slice.check();
+    poser.run(r, &posed);
+  }
+  return out;
+}
+
 }  // namespace
 
 FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int>& faces,
@@ -532,28 +586,29 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   m.chord_tolerance = job.b.chord;
   m.flat_strip_width = job.flat_width;
 
-  // The model: the picked faces and (protect_unpicked_faces) the others.
+  // The model: the picked faces and (protect_unpicked_faces) the others. A
+  // face that cannot be built is left out with a warning: a picked one is
+  // skipped (habit 4, face_failure.h), an unpicked one left unprotected.
   ClearanceModel model(p.gouge_tolerance, 2.0 * p.tool_radius);
   std::vector<std::unique_ptr<Face>> model_faces;
   std::vector<Face*> picked(faces.size(), nullptr);
+  std::vector<std::string> skipped(faces.size());  // per picked face: why, "" if finished
   for (std::size_t i = 0; i < all.size(); ++i) {
     const int f = static_cast<int>(i);
     const auto at = std::find(faces.begin(), faces.end(), f);
     if (at == faces.end() && !p.protect_unpicked_faces) continue;
-    try {
+    const std::optional<std::string> failed = face_failure(f, [&] {
       auto face = std::make_unique<Face>(Face{f, PatchGrid::from_face(all[i], f), std::nullopt});
       face->trim.emplace(all[i], face->grid, f);
       model.add(face->grid, &*face->trim);
       if (at != faces.end()) picked[static_cast<std::size_t>(at - faces.begin())] = face.get();
       model_faces.push_back(std::move(face));
-    } catch (const Standard_Failure& e) {
-      if (at != faces.end())
-        throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
-      result.warnings.push_back(face_label(f) +
-                                " is not protected from the shank: " + e.GetMessageString());
-    } catch (const GeometryError& e) {
-      if (at != faces.end()) throw;
-      result.warnings.push_back(face_label(f) + " is not protected from the shank: " + e.what());
+    });
+    if (failed && at != faces.end()) {
+      skipped[static_cast<std::size_t>(at - faces.begin())] = *failed;
+      result.warnings.push_back(skipped_face_warning(*failed, false));
+    } else if (failed) {
+      result.warnings.push_back(*failed + "; it is not protected from the shank");
     }
   }
   model.build();
@@ -563,89 +618,58 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   const ProgressSlice all_progress(progress);
   std::vector<std::vector<Posed>> runs;
   for (std::size_t fi = 0; fi < picked.size(); ++fi) {
+    if (!skipped[fi].empty()) continue;
     const Face& face = *picked[fi];
     const ProgressSlice slice = all_progress.sub(0.9 * double(fi) / double(picked.size()),
                                                  0.9 * double(fi + 1) / double(picked.size()));
-    try {
-      std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
-      if (p.direction != IsoDirection::Auto) dirs = {p.direction};
-      std::optional<PatchGrid> best_grid;
-      Traced best;
-      bool best_transposed = false;
-      for (IsoDirection d : dirs) {
-        const bool tr = d == IsoDirection::U;
-        PatchGrid g = tr ? face.grid.transposed() : face.grid;
-        // Spaced for h' first; where the measured certificate exceeds it
-        // (the next path runs a little farther than the march went, where
-        // points were resampled, cut out or joined), again for a target
-        // scaled down by the excess (the cusp grows about linearly with the
-        // target), up to three times.
-        double target = job.h_eff;
-        Traced t;
-        for (int attempt = 0; attempt < 4; ++attempt) {
-          t = trace_face(g, *face.trim, tr, job, target, slice);
-          if (t.cusp <= job.h_eff) break;
-          target *= 0.98 * job.h_eff / t.cusp;
-        }
-        // The direction that covers the face (no sampled gap wider than
-        // half the strip) and meets h' by its certificate, then the shorter.
-        auto meets = [&job](const Traced& x) {
-          return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
-        };
-        if (!best_grid || (meets(t) && !meets(best)) ||
-            (meets(t) == meets(best) && t.length < best.length)) {
-          best = std::move(t);
-          best_grid.emplace(std::move(g));
-          best_transposed = tr;
-        }
-      }
-      const PatchGrid& g = *best_grid;
-      m.max_spacing = std::max(m.max_spacing, best.max_spacing);
-      m.coverage_gap = std::max(m.coverage_gap, best.gap);
-      m.guaranteed_scallop = std::max(m.guaranteed_scallop, best.cusp);
-      m.paths += static_cast<int>(best.paths.size());
-      // A gap the front left wider than the strips: material may be left there.
-      if (2 * best.gap > 1.05 * std::max(best.max_width, job.flat_width))
-        result.warnings.push_back(face_label(face.index) + ": the paths leave a gap of " +
-                                  num(best.gap) +
-                                  " mm to the nearest path (sampled), wider than half the strip");
-      if (best.min_hits > 0)
-        result.warnings.push_back(face_label(face.index) +
-                                  ": the strip width asked for less than the "
-                                  "minimum spacing at " +
-                                  std::to_string(best.min_hits) + " points");
-      if (best.capped)
-        result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
-      const std::vector<Run> clipped =
-          clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
-      PoseOut posed;
-      const Poser poser(g, *face.trim, best_transposed, job);
-      for (const Run& r : clipped) {
-        slice.check();
-        poser.run(r, &posed);
-      }
-      m.unreachable_length += posed.unreachable;
-      m.lead_raised_points += posed.raised;
-      m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
-      if (posed.raised > 0)
-        result.warnings.push_back(
-            face_label(face.index) + ": the lead was raised above " + num(p.lead_angle) +
-            " deg (up to " + num(posed.max_lead / kDegree) + " deg) at " +
-            std::to_string(posed.raised) +
-            " positions to keep the flat bottom off concave ground (rear gouge); "
-            "the strips there are narrower");
-      if (posed.gouge_left + posed.shank_left + posed.range_left > 0)
-        result.warnings.push_back(
-            face_label(face.index) + ": positions left out: " + std::to_string(posed.gouge_left) +
-            " where the disc would gouge even at " + num(p.max_lead_angle) + " deg lead, " +
-            std::to_string(posed.shank_left) + " where the shank meets the model, " +
-            std::to_string(posed.range_left) + " where A would leave [" + num(p.a_min) + ", " +
-            num(p.a_max) + "] deg");
-      for (auto& r : posed.runs) runs.push_back(std::move(r));
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    FaceRun run;
+    const std::optional<std::string> failed =
+        face_failure(face.index, [&] { run = finish_face(face, job, slice); });
+    if (failed) {
+      skipped[fi] = *failed;
+      result.warnings.push_back(skipped_face_warning(*failed, true));
+      continue;
     }
+    const Traced& best = run.best;
+    const PoseOut& posed = run.posed;
+    m.max_spacing = std::max(m.max_spacing, best.max_spacing);
+    m.coverage_gap = std::max(m.coverage_gap, best.gap);
+    m.guaranteed_scallop = std::max(m.guaranteed_scallop, best.cusp);
+    m.paths += static_cast<int>(best.paths.size());
+    // A gap the front left wider than the strips: material may be left there.
+    if (2 * best.gap > 1.05 * std::max(best.max_width, job.flat_width))
+      result.warnings.push_back(face_label(face.index) + ": the paths leave a gap of " +
+                                num(best.gap) +
+                                " mm to the nearest path (sampled), wider than half the strip");
+    if (best.min_hits > 0)
+      result.warnings.push_back(face_label(face.index) +
+                                ": the strip width asked for less than the "
+                                "minimum spacing at " +
+                                std::to_string(best.min_hits) + " points");
+    if (best.capped)
+      result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
+    m.unreachable_length += posed.unreachable;
+    m.lead_raised_points += posed.raised;
+    m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
+    if (posed.raised > 0)
+      result.warnings.push_back(
+          face_label(face.index) + ": the lead was raised above " + num(p.lead_angle) +
+          " deg (up to " + num(posed.max_lead / kDegree) + " deg) at " +
+          std::to_string(posed.raised) +
+          " positions to keep the flat bottom off concave ground (rear gouge); "
+          "the strips there are narrower");
+    if (posed.gouge_left + posed.shank_left + posed.range_left > 0)
+      result.warnings.push_back(
+          face_label(face.index) + ": positions left out: " + std::to_string(posed.gouge_left) +
+          " where the disc would gouge even at " + num(p.max_lead_angle) + " deg lead, " +
+          std::to_string(posed.shank_left) + " where the shank meets the model, " +
+          std::to_string(posed.range_left) + " where A would leave [" + num(p.a_min) + ", " +
+          num(p.a_max) + "] deg");
+    for (auto& r : run.posed.runs) runs.push_back(std::move(r));
   }
+  for (std::size_t fi = 0; fi < faces.size(); ++fi)
+    if (!skipped[fi].empty()) result.skipped_faces.push_back(faces[fi]);
+  if (result.skipped_faces.size() == faces.size()) throw_every_face_failed(skipped);
   // The guarantees: the cusp measured plus the positions' error.
   m.guaranteed_scallop += job.b.error();
   m.guaranteed_overcut = job.b.error() + p.gouge_tolerance;

@@ -6,7 +6,6 @@
 // Algorithm 1 / the uniform baseline per face and direction: plan_faces,
 // choose_directions, cut_chosen), link_pieces (coverage.h), certify (the
 // measured lengths and times, the two guarantees).
-#include <Standard_Failure.hxx>
 #include <TopoDS.hxx>
 #include <algorithm>
 #include <cmath>
@@ -24,6 +23,7 @@
 
 #include "finishing/constant_scallop.h"
 #include "finishing/coverage.h"
+#include "finishing/face_failure.h"
 #include "finishing/face_side.h"
 #include "finishing/job_budget.h"
 #include "finishing/parallel_planes.h"
@@ -135,6 +135,9 @@ struct FaceResult {
   FacePathStats stats;
   double lower_bound = 0.0;  // L* of the face
   double delta_max = 0.0;    // the largest iso-distance tolerance of the face
+  // Why the face could not be planned or cut in this direction
+  // (face_failure()); nothing if it was.
+  std::optional<std::string> failed;
 };
 
 // The coverage's curves clipped to the face's trimmed domain (Elber &
@@ -231,12 +234,24 @@ JobPlan plan_job(const std::vector<TopoDS_Face>& all, const std::vector<int>& fa
 // trimmed domain; the clearance model refers to both, so they live in a
 // deque, whose elements stay where they are while it grows.
 struct ModelFaces {
+  static constexpr std::size_t kNotBuilt = std::numeric_limits<std::size_t>::max();
   std::deque<PickedFace> faces;
   std::vector<std::size_t> picked;  // per picked face (in the order given), its place in faces
+  // Per picked face: why it is skipped (face_failure(); the phases add the
+  // faces they fail on), empty if it is finished. habit 4: the rest goes on.
+  std::vector<std::string> skipped;
+  bool live(std::size_t i) const { return skipped[i].empty(); }
+  const PickedFace& face(std::size_t i) const { return faces[picked[i]]; }
+  // A phase failed on picked face i, which the clearance model still has.
+  void skip(std::size_t i, const std::string& reason, std::vector<std::string>& warnings) {
+    skipped[i] = reason;
+    warnings.push_back(skipped_face_warning(reason, true));
+  }
 };
 
-// Phase 1: the model. A picked face that OpenCASCADE cannot take is an
-// error naming it; an unpicked one is left unprotected with a warning. A
+// Phase 1: the model. A face that cannot be built (a degenerate face, an
+// OpenCASCADE failure) is left out of it with a warning: a picked one is
+// skipped, an unpicked one left unprotected. A
 // picked open face turned down is finished from its upper side, the side a
 // vertical tool reaches (the grid's normal follows the face's orientation,
 // so the face is taken reversed), with a warning.
@@ -244,15 +259,17 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
                        const std::vector<int>& faces, const IsoParams& params,
                        ClearanceModel& model, std::vector<std::string>& warnings) {
   ModelFaces mf;
-  mf.picked.assign(faces.size(), all.size());
+  mf.picked.assign(faces.size(), ModelFaces::kNotBuilt);
+  mf.skipped.assign(faces.size(), std::string());
   for (std::size_t i = 0; i < all.size(); ++i) {
     const int f = static_cast<int>(i);
     const auto at = std::find(faces.begin(), faces.end(), f);
     const bool is_picked = at != faces.end();
     if (!is_picked && !params.protect_unpicked_faces) continue;
+    const std::size_t pos = static_cast<std::size_t>(at - faces.begin());
     TopoDS_Face face = all[i];
     bool turned = false;
-    try {
+    const std::optional<std::string> failed = face_failure(f, [&] {
       PickedFace& pf =
           mf.faces.emplace_back(PickedFace{f, PatchGrid::from_face(face, f), std::nullopt});
       if (is_picked && open_face_turned_down(shape, face, pf.grid)) {
@@ -262,19 +279,17 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
       }
       pf.trim.emplace(face, pf.grid, f);
       model.add(pf.grid, &*pf.trim);
-    } catch (const Standard_Failure& e) {
-      if (is_picked)
-        throw GeometryError(face_label(f) + ": OpenCASCADE failed: " + e.GetMessageString());
-      warnings.push_back(face_label(f) +
-                         " is not protected from the ball: " + e.GetMessageString());
-      continue;
-    } catch (const GeometryError& e) {
-      if (is_picked) throw;
-      warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
+    });
+    if (failed && is_picked) {
+      mf.skipped[pos] = *failed;
+      warnings.push_back(skipped_face_warning(*failed, false));
+    }
+    if (failed) {
+      if (!is_picked) warnings.push_back(*failed + "; it is not protected from the ball");
       continue;
     }
     if (is_picked) {
-      mf.picked[static_cast<std::size_t>(at - faces.begin())] = mf.faces.size() - 1;
+      mf.picked[pos] = mf.faces.size() - 1;
       if (turned)
         warnings.push_back(face_label(f) +
                            " is an open face whose orientation puts the material above it: "
@@ -294,23 +309,36 @@ struct PatternCut {
   double max_scallop = 0.0;  // the certified scallop (see the header per pattern)
 };
 
-// L* of the picked faces (the lower bound the certificate compares with).
+// L* of the picked faces finished (the lower bound the certificate compares
+// with).
 double lower_bound_of(const ModelFaces& mf, const IsoParams& params) {
   double sum = 0.0;
-  for (std::size_t k : mf.picked)
-    sum += lower_bound_length(mf.faces[k].grid, &*mf.faces[k].trim, params.ball_radius,
-                              params.scallop_height);
+  for (std::size_t i = 0; i < mf.picked.size(); ++i)
+    if (mf.live(i))
+      sum += lower_bound_length(mf.face(i).grid, &*mf.face(i).trim, params.ball_radius,
+                                params.scallop_height);
   return sum;
+}
+
+// The picked faces not skipped so far, by their place in the faces given.
+std::vector<std::size_t> live_faces(const ModelFaces& mf) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < mf.picked.size(); ++i)
+    if (mf.live(i)) out.push_back(i);
+  return out;
 }
 
 // Phase 2, ParallelPlanes: all faces share one set of planes, so they are
 // cut together (parallel_planes.cpp).
-PatternCut cut_parallel_planes(const ModelFaces& mf, const JobPlan& job,
-                               const ClearanceModel& model, IsoResult& result, Progress* progress) {
+PatternCut cut_parallel_planes(ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
+                               IsoResult& result, Progress* progress) {
+  const std::vector<std::size_t> live = live_faces(mf);
   std::vector<PlaneFace> plane_faces;
-  for (std::size_t k : mf.picked)
-    plane_faces.push_back({mf.faces[k].index, &mf.faces[k].grid, &*mf.faces[k].trim});
+  for (std::size_t i : live)
+    plane_faces.push_back({mf.face(i).index, &mf.face(i).grid, &*mf.face(i).trim});
   PlanePieces cut = parallel_plane_pieces(plane_faces, job.delta, job.params, model, progress);
+  for (std::size_t k = 0; k < live.size(); ++k)
+    if (cut.failed[k]) mf.skip(live[k], *cut.failed[k], result.warnings);
   result.plane_axis = cut.axis;
   result.face_direction.assign(mf.picked.size(), IsoDirection::Auto);
   result.metrics.sub_isocurves = cut.curves;
@@ -320,11 +348,14 @@ PatternCut cut_parallel_planes(const ModelFaces& mf, const JobPlan& job,
   result.metrics.lower_bound_length = lower_bound_of(mf, job.params);
   PatternCut out;
   out.max_dist = cut.max_pass_distance;
-  // Not a certificate: the flat-ground scallop of the largest pass
-  // distance (see the header).
-  const double e = job.budget.centre_error();
-  const double r = job.params.ball_radius;
-  out.max_scallop = e + scallop_for_stepover(r - e, std::min(out.max_dist, 2 * (r - e)));
+  // Per face, the cusp of its largest pass distance on its most concave
+  // ground (stepover.h; see the header).
+  for (std::size_t k = 0; k < live.size(); ++k)
+    if (!cut.failed[k])
+      out.max_scallop = std::max(
+          out.max_scallop,
+          plane_pass_scallop(mf.face(live[k]).grid, &*mf.face(live[k]).trim, job.params.ball_radius,
+                             cut.face_pass_distance[k], job.budget.centre_error()));
   out.pieces = std::move(cut.pieces);
   return out;
 }
@@ -334,14 +365,18 @@ PatternCut cut_parallel_planes(const ModelFaces& mf, const JobPlan& job,
 // split the budget yet: spaced for h - e it loses paths on a sphere cap), so
 // the guarantee, which adds the centres' error e = chord + posted rounding
 // to the measured cusp, can exceed h by e.
-PatternCut cut_constant_scallop(const ModelFaces& mf, const JobPlan& job,
-                                const ClearanceModel& model, IsoResult& result,
-                                Progress* progress) {
+PatternCut cut_constant_scallop(ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
+                                IsoResult& result, Progress* progress) {
+  const std::vector<std::size_t> live = live_faces(mf);
   std::vector<ScallopFace> scallop_faces;
-  for (std::size_t k : mf.picked)
-    scallop_faces.push_back({mf.faces[k].index, &mf.faces[k].grid, &*mf.faces[k].trim});
+  for (std::size_t i : live)
+    scallop_faces.push_back({mf.face(i).index, &mf.face(i).grid, &*mf.face(i).trim});
   ScallopPieces cut = constant_scallop_pieces(scallop_faces, job.params, model, progress);
-  result.face_direction = cut.face_direction;
+  result.face_direction.assign(mf.picked.size(), IsoDirection::Auto);
+  for (std::size_t k = 0; k < live.size(); ++k) {
+    result.face_direction[live[k]] = cut.face_direction[k];
+    if (cut.failed[k]) mf.skip(live[k], *cut.failed[k], result.warnings);
+  }
   result.metrics.sub_isocurves = cut.curves;
   result.metrics.unreachable_length = cut.unreachable_length;
   result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
@@ -357,8 +392,10 @@ PatternCut cut_constant_scallop(const ModelFaces& mf, const JobPlan& job,
 
 // Phase 2a, Adaptive and Uniform: every (face, direction) planned as a task
 // on several threads (two directions of one face share its trimmed domain,
-// whose hatcher is locked); progress 0 to 0.6. Index: face * directions +
-// direction.
+// whose hatcher is locked); progress 0 to 0.6. Index: face (its place in
+// the faces given) * directions + direction. A direction whose planning
+// fails on the geometry has `failed` set; a face skipped before is not
+// planned (`failed` set too).
 std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDirection>& dirs,
                                    const JobPlan& job, Progress* progress) {
   const std::size_t nd = dirs.size();
@@ -366,30 +403,54 @@ std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDi
   TaskProgress planning(ProgressSlice(progress).sub(0.0, 0.6), tried.size());
   for_each_index(tried.size(), job.params.threads, [&](std::size_t k) {
     const std::size_t f = k / nd, di = k % nd;
-    const PickedFace& face = mf.faces[mf.picked[f]];
-    try {
-      tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.task(k));
-      if (di == 0)
-        tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, job.params.ball_radius,
-                                                  job.params.scallop_height);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    if (!mf.live(f)) {
+      tried[k].failed = mf.skipped[f];
+      planning.task(k).report(1.0);  // nothing to plan: the task is done
+      return;
     }
+    const PickedFace& face = mf.face(f);
+    double lower_bound = 0.0;  // the face's L*, first: kept if this direction fails
+    const std::optional<std::string> failed = face_failure(face.index, [&] {
+      if (di == 0)
+        lower_bound = lower_bound_length(face.grid, &*face.trim, job.params.ball_radius,
+                                         job.params.scallop_height);
+      tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.task(k));
+    });
+    tried[k].dir = dirs[di];
+    tried[k].failed = failed;
+    tried[k].lower_bound = lower_bound;
   });
   return tried;
 }
 
+const char* direction_name(IsoDirection d) { return d == IsoDirection::U ? "U" : "V"; }
+
 // Phase 2b: per face, the first direction tried unless another plans
-// strictly less (the face's L* kept whichever wins).
-std::vector<FaceResult> choose_directions(std::vector<FaceResult> tried, std::size_t nd) {
+// strictly less (the face's L* kept whichever wins), among those that did
+// not fail; a failed direction beside one that did not is a warning, a face
+// on which all failed keeps the first failure.
+std::vector<FaceResult> choose_directions(std::vector<FaceResult> tried, std::size_t nd,
+                                          const ModelFaces& mf,
+                                          std::vector<std::string>& warnings) {
   std::vector<FaceResult> chosen(tried.size() / nd);
   for (std::size_t f = 0; f < chosen.size(); ++f) {
     std::size_t best = f * nd;
-    for (std::size_t di = 1; di < nd; ++di)
-      if (tried[f * nd + di].planned_length < tried[best].planned_length) best = f * nd + di;
+    for (std::size_t di = 1; di < nd; ++di) {
+      const FaceResult& t = tried[f * nd + di];
+      if (!t.failed && (tried[best].failed || t.planned_length < tried[best].planned_length))
+        best = f * nd + di;
+    }
+    if (mf.live(f) && !tried[best].failed)
+      for (std::size_t di = 0; di < nd; ++di)
+        if (tried[f * nd + di].failed)
+          warnings.push_back(*tried[f * nd + di].failed + "; direction " +
+                             direction_name(tried[f * nd + di].dir) + " left out, " +
+                             direction_name(tried[best].dir) + " used");
     const double lower_bound = tried[f * nd].lower_bound;
+    std::optional<std::string> first_failure = tried[f * nd].failed;
     chosen[f] = std::move(tried[best]);
     chosen[f].lower_bound = lower_bound;
+    if (chosen[f].failed) chosen[f].failed = first_failure;
   }
   return chosen;
 }
@@ -397,7 +458,8 @@ std::vector<FaceResult> choose_directions(std::vector<FaceResult> tried, std::si
 // Phase 2c: the chosen curves cut against the model, in ranges of
 // kCurvesPerTask curves as tasks, merged in face and curve order, so that
 // the result does not depend on the number of threads; each face's stats
-// gathered. Progress 0.6 to 0.95.
+// gathered. A face on which a range fails gets `failed` (the first range's
+// reason) and none of its pieces. Progress 0.6 to 0.95.
 constexpr std::size_t kCurvesPerTask = 8;  // small enough to balance two faces on many threads
 
 std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFaces& mf,
@@ -408,28 +470,29 @@ std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFac
   };
   std::vector<Range> ranges;
   for (std::size_t f = 0; f < chosen.size(); ++f)
-    for (std::size_t i = 0; i < chosen[f].planned.size(); i += kCurvesPerTask)
+    for (std::size_t i = 0; !chosen[f].failed && i < chosen[f].planned.size(); i += kCurvesPerTask)
       ranges.push_back({f, i, std::min(i + kCurvesPerTask, chosen[f].planned.size())});
   std::vector<std::vector<CutPiece>> cut(ranges.size());
   std::vector<FacePathStats> cut_stats(ranges.size());
+  std::vector<std::optional<std::string>> failed(ranges.size());
   std::size_t cut_done = 0;
   std::mutex cut_lock;  // the count and the progress it reports
   for_each_index(ranges.size(), job.params.threads, [&](std::size_t k) {
     check_cancel(progress);
     const Range& rg = ranges[k];
     const FaceResult& fr = chosen[rg.face];
-    try {
+    failed[k] = face_failure(mf.face(rg.face).index, [&] {
       cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
                            job.params, model, &cut_stats[k]);
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(mf.faces[mf.picked[rg.face]].index) +
-                          ": OpenCASCADE failed: " + e.GetMessageString());
-    }
+    });
     const std::lock_guard<std::mutex> guard(cut_lock);
     report_progress(progress, 0.6 + 0.35 * double(++cut_done) / double(ranges.size()));
   });
+  for (std::size_t k = 0; k < ranges.size(); ++k)
+    if (failed[k] && !chosen[ranges[k].face].failed) chosen[ranges[k].face].failed = failed[k];
   std::vector<CutPiece> pieces;
   for (std::size_t k = 0; k < ranges.size(); ++k) {
+    if (chosen[ranges[k].face].failed) continue;
     FacePathStats& stats = chosen[ranges[k].face].stats;
     stats.curves += cut_stats[k].curves;
     stats.unreachable_length += cut_stats[k].unreachable_length;
@@ -442,14 +505,20 @@ std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFac
 // Phase 2, Adaptive and Uniform (Algorithm 1 or the uniform baseline per
 // face): plan, choose the direction, cut; the faces' curves, directions and
 // stats into the result.
-PatternCut cut_isocurves(const ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
+PatternCut cut_isocurves(ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
                          IsoResult& result, Progress* progress) {
   const std::vector<IsoDirection> dirs = directions_to_try(job.params);
   std::vector<FaceResult> chosen =
-      choose_directions(plan_faces(mf, dirs, job, progress), dirs.size());
+      choose_directions(plan_faces(mf, dirs, job, progress), dirs.size(), mf, result.warnings);
   PatternCut out;
   out.pieces = cut_chosen(chosen, mf, job, model, progress);
-  for (FaceResult& best : chosen) {
+  for (std::size_t f = 0; f < chosen.size(); ++f) {
+    FaceResult& best = chosen[f];
+    if (best.failed && mf.live(f)) mf.skip(f, *best.failed, result.warnings);
+    if (best.failed) {
+      result.face_direction.push_back(IsoDirection::Auto);
+      continue;
+    }
     result.curves.insert(result.curves.end(), best.coverage.curves.begin(),
                          best.coverage.curves.end());
     result.face_direction.push_back(best.dir);
@@ -465,7 +534,7 @@ PatternCut cut_isocurves(const ModelFaces& mf, const JobPlan& job, const Clearan
   return out;
 }
 
-PatternCut cut_pattern(const ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
+PatternCut cut_pattern(ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
                        IsoResult& result, Progress* progress) {
   switch (job.params.pattern) {
     case IsoPattern::ParallelPlanes:
@@ -508,10 +577,20 @@ void certify(IsoResult& result, const PatternCut& cut, const JobPlan& job) {
   m.cutting_time = times.feed;
 }
 
+// The picked faces skipped so far into the result; if that is every one,
+// the job is an error naming each with its reason.
+void record_skipped(const ModelFaces& mf, const std::vector<int>& faces, IsoResult& result) {
+  result.skipped_faces.clear();
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    if (!mf.live(i)) result.skipped_faces.push_back(faces[i]);
+  if (result.skipped_faces.size() == faces.size()) throw_every_face_failed(mf.skipped);
+}
+
 }  // namespace
 
 // The driver: the job's numbers, the model, the pattern's pieces, linking
-// (coverage.h: link_pieces), the certificate.
+// (coverage.h: link_pieces), the certificate. A picked face that a phase
+// fails on is skipped with a warning (face_failure.h).
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
                             const IsoParams& user_params, Progress* progress) {
   // The shape first: a shape without faces is that, whatever the numbers.
@@ -524,8 +603,10 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   // Its accuracy is the gouge tolerance: the queries keep the ball at
   // r - chord_tolerance - gouge_tolerance (query_distance()).
   ClearanceModel model(job.params.gouge_tolerance, 2.0 * job.params.ball_radius);
-  const ModelFaces mf = build_model(shape, all, faces, job.params, model, result.warnings);
+  ModelFaces mf = build_model(shape, all, faces, job.params, model, result.warnings);
+  record_skipped(mf, faces, result);
   PatternCut cut = cut_pattern(mf, job, model, result, progress);
+  record_skipped(mf, faces, result);
   result.path = link_pieces(std::move(cut.pieces), job.params, model);
   report_progress(progress, 1.0);
   check_safe_z(result.path, job.params.safe_z);

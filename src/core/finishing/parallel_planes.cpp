@@ -3,13 +3,13 @@
 // axis chosen and the pieces put in zig-zag order for link_pieces().
 #include "finishing/parallel_planes.h"
 
-#include <Standard_Failure.hxx>
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <memory>
 #include <unordered_map>
 
+#include "finishing/face_failure.h"
 #include "finishing/plane_trace.h"
 #include "finishing/task_pool.h"
 #include "isocam/errors.h"
@@ -271,15 +271,14 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
                                   const IsoParams& params, const ClearanceModel& model,
                                   Progress* progress) {
   const ProgressSlice all(progress);
-  // OpenCASCADE failures (the trimmed domain's classifier and projections)
-  // are reported naming the face.
+  PlanePieces out;
+  out.failed.resize(faces.size());
+  // A face the geometry defeats (OpenCASCADE in the trimmed domain's
+  // classifier and projections, the hatcher) is left out on every axis,
+  // its reason kept; the planes are those of the other faces.
   auto on_face = [&](std::size_t k, const std::function<void()>& fn) {
-    try {
-      fn();
-    } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(faces[k].index) +
-                          ": OpenCASCADE failed: " + e.GetMessageString());
-    }
+    if (out.failed[k]) return;
+    if (std::optional<std::string> why = face_failure(faces[k].index, fn)) out.failed[k] = why;
   };
   std::vector<std::unique_ptr<OffsetLattice>> lattices(faces.size());
   for_each_index(faces.size(), params.threads, [&](std::size_t k) {
@@ -293,15 +292,13 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
 
   std::vector<int> axes{params.plane_axis == IsoPlaneAxis::Y ? 1 : 0};
   if (params.plane_axis == IsoPlaneAxis::Auto) axes = {0, 1};
-  PlanePieces out;
-  AxisCut best;
-  int best_axis = -1;
+  std::vector<AxisCut> cuts;  // per axis tried (while a face has a cell inside)
   for (std::size_t ai = 0; ai < axes.size(); ++ai) {
     const int axis = axes[ai];
     double lo = 1e300, hi = -1e300;
-    for (const auto& l : lattices) {
+    for (std::size_t k = 0; k < faces.size(); ++k) {
       double a, b;
-      if (l->range(axis, &a, &b)) {
+      if (!out.failed[k] && lattices[k]->range(axis, &a, &b)) {
         lo = std::min(lo, a);
         hi = std::max(hi, b);
       }
@@ -325,15 +322,24 @@ PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double de
         }
       });
     });
-    for (const FaceCut& f : cut.faces) cut.length += f.length;
-    if (best_axis < 0 || cut.length < best.length) {
-      best = std::move(cut);
-      best_axis = axis;
-    }
+    cuts.push_back(std::move(cut));
   }
+  // The shorter axis over the faces that did not fail on any.
+  int best_axis = -1;
+  for (std::size_t ai = 0; ai < cuts.size(); ++ai) {
+    for (std::size_t k = 0; k < faces.size(); ++k)
+      if (!out.failed[k]) cuts[ai].length += cuts[ai].faces[k].length;
+    if (best_axis < 0 || cuts[ai].length < cuts[std::size_t(best_axis)].length) best_axis = int(ai);
+  }
+  AxisCut best = best_axis < 0 ? AxisCut{} : std::move(cuts[std::size_t(best_axis)]);
+  if (best_axis >= 0) best_axis = axes[std::size_t(best_axis)];
   out.axis = best_axis == 1 ? IsoPlaneAxis::Y : IsoPlaneAxis::X;
   std::vector<std::pair<int, CutPiece>> pieces;
-  for (FaceCut& f : best.faces) {
+  out.face_pass_distance.assign(faces.size(), 0.0);
+  for (std::size_t k = 0; k < best.faces.size(); ++k) {
+    if (out.failed[k]) continue;
+    FaceCut& f = best.faces[k];
+    out.face_pass_distance[k] = delta * f.max_factor;
     out.curves += f.curves;
     out.unreachable_length += f.unreachable;
     out.unreachable_from_above += f.from_above;

@@ -2,6 +2,8 @@
 // Elber & Cohen, Figures 2b and 3b): what adaptive isocurves are compared with.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "finishing/coverage.h"
@@ -24,8 +26,13 @@ struct PlanePieces {
   double unreachable_length = 0.0;      // centre path cut away: no clearance
   double unreachable_from_above = 0.0;  // of it: the column above not clear
   // Largest first-order distance between adjacent passes where the ball
-  // cuts (IsoMetrics::max_iso_distance for ParallelPlanes).
+  // cuts (IsoMetrics::max_iso_distance for ParallelPlanes), and the same per
+  // face (0 for a face that failed).
   double max_pass_distance = 0.0;
+  std::vector<double> face_pass_distance;
+  // Per face: why the geometry defeated it (face_failure.h), its pieces left
+  // out; nothing if it did not.
+  std::vector<std::optional<std::string>> failed;
 };
 
 // The pieces of the planes of constant x or y (params.plane_axis; Auto: the
@@ -38,8 +45,9 @@ struct PlanePieces {
 // clearance model exactly where the ball would come closer than r -
 // chord_tolerance - model.tolerance() to it. Faces are computed on
 // params.threads threads; the result does not depend on their number.
-// Throws GeometryError naming the face if OpenCASCADE fails on it, Cancelled
-// if the progress asks.
+// A face that OpenCASCADE or the trimmed domain fails on is left out, named
+// in `failed` (the others keep their planes); throws Cancelled if the
+// progress asks.
 PlanePieces parallel_plane_pieces(const std::vector<PlaneFace>& faces, double delta,
                                   const IsoParams& params, const ClearanceModel& model,
                                   Progress* progress);

@@ -143,6 +143,43 @@ double StepoverField::scallop(int i, double v1, double v2, double c) const {
   return h;
 }
 
+double plane_pass_scallop(const PatchGrid& g, const TrimDomain* trim, double r, double d,
+                          double e) {
+  const auto& ub = g.ubreaks();
+  const auto& vb = g.vbreaks();
+  double kappa = 0.0;  // the most concave, where the ball fits
+  for (int j = 0; j < g.patches_v(); ++j)
+    for (int i = 0; i < g.patches_u(); ++i) {
+      const double u0 = ub[static_cast<std::size_t>(i)], v0 = vb[static_cast<std::size_t>(j)];
+      const double du = ub[static_cast<std::size_t>(i) + 1] - u0;
+      const double dv = vb[static_cast<std::size_t>(j) + 1] - v0;
+      double lo = kInf, hi = -kInf;
+      for (double s : kSample)
+        for (double t : kSample) {
+          if (trim && !trim->contains(u0 + du * s, v0 + dv * t)) continue;
+          const CurvatureSample c = curvature_at(g, i, j, s, t);
+          if (!c.ok || !ball_fits(r, c.k_min)) continue;
+          lo = std::min(lo, c.k_min);
+          hi = std::max(hi, c.k_min);
+        }
+      if (!(hi >= lo)) continue;
+      const double margin = lo - 0.25 * (hi - lo);
+      kappa = std::min(kappa, ball_fits(r, margin) ? margin : lo);
+    }
+  // Balls of radius r - e about centres d apart on the circle of radius R
+  // = 1/|kappa| - r (concave; the flat limit R -> inf), the cusp measured
+  // from S + e N: [R - sqrt(R^2 - d^2/4)] + [(r - e) - sqrt((r - e)^2 -
+  // d^2/4)], plus e. Centres farther apart than 2 (r - e) or than the
+  // circle allows: no bound.
+  const double re = r - e, q = 0.25 * d * d;
+  if (q > re * re) return r;
+  const double ball = re - std::sqrt(re * re - q);
+  if (kappa >= 0) return e + ball;
+  const double big = 1.0 / -kappa - r;
+  if (q > big * big) return r;
+  return std::min(r, e + ball + big - std::sqrt(big * big - q));
+}
+
 double lower_bound_length(const PatchGrid& g, const TrimDomain* trim, double r, double h) {
   const auto& ub = g.ubreaks();
   const auto& vb = g.vbreaks();

@@ -86,6 +86,20 @@ class StepoverField {
   std::vector<double> kappa_, delta_;
 };
 
+// ParallelPlanes' certificate (isocurve_job.cpp): the most material left
+// above the face by passes whose ball centres are at most d apart on the
+// offset S + r N, with centre error e. For a given centre distance the cusp
+// is lower than flat on convex ground (the centres spread over a wider
+// circle than the ground) and higher on concave ground (over a narrower
+// one), so the cusp on the face's most concave curvature in any direction
+// bounds it: k_min, sampled as StepoverField samples (4 x 4 per patch,
+// inside the trimmed face) and lowered by a quarter of the patch's spread,
+// flat where all is convex. Samples where the ball does not fit leave no
+// cusp (scallop_with_error()). r where the balls do not meet or the
+// centres are farther apart than that ground's circle of centres allows:
+// no bound.
+double plane_pass_scallop(const PatchGrid& g, const TrimDomain* trim, double r, double d, double e);
+
 // Elber & Cohen's yardstick made a bound: L* = integral over the face (inside
 // its wires) of dA / w_max, with w_max the largest stepover over all feed
 // directions at the point, that is the stepover across the direction of

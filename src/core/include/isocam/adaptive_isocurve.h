@@ -173,7 +173,10 @@ struct IsoMetrics {
   // cusp of its largest iso-distance on ground of the largest curvature
   // across the feed there (sampled per patch, finishing/stepover.h), for
   // centres off the exact offset by chord + posted rounding, plus that
-  // error. <= scallop_height under either bound.
+  // error. <= scallop_height under either bound for Adaptive and Uniform;
+  // ParallelPlanes and ConstantScallop: the same kind of bound from what
+  // they measured, which can exceed it (see below); the ball radius means
+  // no bound (the balls of adjacent passes do not meet).
   double guaranteed_scallop = 0.0;
   // The deepest cut below the design: chord + gouge tolerance + posted
   // rounding, <= overcut_tolerance.
@@ -199,9 +202,13 @@ struct IsoResult {
   Toolpath path;
   IsoMetrics metrics;
   std::vector<SubIsocurve> curves;               // the coverage, in machining order
-  std::vector<IsoDirection> face_direction;      // direction used per picked face
+  std::vector<IsoDirection> face_direction;      // direction used per picked face (given order)
   std::vector<std::string> warnings;             // e.g. a face that could not be protected
   IsoPlaneAxis plane_axis = IsoPlaneAxis::Auto;  // ParallelPlanes: the axis used (X or Y)
+  // The picked faces skipped (indices in the shape, in the order given):
+  // the geometry defeated a phase on them (see adaptive_isocurve() below);
+  // no path on them, and a warning each says why.
+  std::vector<int> skipped_faces;
 };
 
 // ParallelPlanes (the baseline the adaptive isocurves are compared with):
@@ -225,8 +232,18 @@ struct IsoResult {
 //    vertices of the traced plane curves (where they cross the lattice) and
 //    the ends of the pieces cut. It equals delta on flat ground and grows
 //    without bound on walls facing the axis (capped at 1e6 delta), which is
-//    the pattern's weakness (the paper's Figure 3b); `guaranteed_scallop` is
-//    the flat-ground scallop of that spacing (at most the ball radius).
+//    the pattern's weakness (the paper's Figure 3b);
+//  - `guaranteed_scallop` is a bound from that spacing, the same kind as
+//    the other patterns' (measured where they measure): per face, e plus
+//    the cusp of balls of radius r - e whose centres are the face's largest
+//    pass distance apart, on the face's most concave ground in any
+//    direction (for a given centre distance concave ground leaves the
+//    highest cusp, convex ground less than flat; plane_pass_scallop(),
+//    finishing/stepover.h), the largest over the faces. Nothing spaces the
+//    planes for it, so it exceeds scallop_height wherever the planes run
+//    steeply or over concave ground, and it is the ball radius r -- no
+//    bound: the balls of adjacent passes do not meet -- where the spacing
+//    exceeds about 2 r (walls).
 
 // ConstantScallop: per face, a start path on the face's boundary isocurve
 // (v = vmin for V, u = umin for U; Auto: the direction with the shorter
@@ -254,9 +271,20 @@ double stepover_for_scallop(double ball_radius, double scallop_height);
 // r finite and > 0, 0 <= delta <= 2 r, else InvalidArgument.
 double scallop_for_stepover(double ball_radius, double delta);
 
-// Throws InvalidArgument for bad parameters, an out-of-range or duplicate
-// face index, or an empty shape; GeometryError for a degenerate face or when
-// the recursion guards trip; Cancelled if progress->cancel_requested.
+// Per-face failures (ENGINEERING.md, habit 4): a picked face whose geometry
+// defeats the job -- degenerate, OpenCASCADE failing on it, its planning
+// tripping a guard (max_depth, min_param_gap, the uniform spacing) -- is
+// skipped: no path on it, its index in `skipped_faces`, a warning naming it
+// ("face N (FaceN+1)") and the reason, and the other faces are finished as
+// if it had not been picked. It stays in the clearance model if it could be
+// built there (the ball is kept clear of it); otherwise the warning says it
+// is not protected. Under Auto a direction that fails beside one that does
+// not is left out with a warning. Its entry of `face_direction` is Auto.
+//
+// Throws InvalidArgument for bad parameters (the work budget included), an
+// out-of-range or duplicate face index, or an empty shape; GeometryError,
+// naming every face with its reason, only when every picked face is
+// skipped; Cancelled if progress->cancel_requested.
 IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& faces,
                             const IsoParams& params, Progress* progress = nullptr);
 

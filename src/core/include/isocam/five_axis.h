@@ -135,11 +135,18 @@ struct FiveAxisResult {
   std::vector<double> a, c;     // rotary angles per move (degrees), see the header
   FiveAxisMetrics metrics;
   std::vector<std::string> warnings;
+  // The picked faces skipped (indices in the shape, in the order given):
+  // no path on them, a warning each says why (see below).
+  std::vector<int> skipped_faces;
 };
 
-// Throws InvalidArgument for bad parameters (naming the argument) or bad
-// face indices, GeometryError naming the face when OpenCASCADE fails,
-// Cancelled if the progress asks.
+// A picked face whose geometry defeats the job (degenerate, OpenCASCADE
+// failing on it) is skipped with a warning naming it and the reason, and
+// the other faces are finished (ENGINEERING.md, habit 4); it stays in the
+// clearance model if it could be built there, else the warning says it is
+// not protected. Throws InvalidArgument for bad parameters (naming the
+// argument) or bad face indices, GeometryError naming every face with its
+// reason when every picked face is skipped, Cancelled if the progress asks.
 FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int>& faces,
                                 const FiveAxisParams& params, Progress* progress = nullptr);
 
