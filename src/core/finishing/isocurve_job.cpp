@@ -2,7 +2,8 @@
 // (adaptive_isocurve() at the end) over named phases, each with its own
 // contract: plan_job (the arguments checked, the budgets split, the work
 // budget), build_model (each face's patch grid, trimmed domain and the
-// clearance model), cut_pattern (ParallelPlanes, ConstantScallop, or
+// clearance model), choose_sides (the sides of open faces a vertical tool
+// reaches), cut_pattern (ParallelPlanes, ConstantScallop, or
 // Algorithm 1 / the uniform baseline per face and direction: plan_faces,
 // choose_directions, cut_chosen), link_pieces (coverage.h), certify (the
 // measured lengths and times, the two guarantees).
@@ -27,6 +28,7 @@
 #include "finishing/face_side.h"
 #include "finishing/job_budget.h"
 #include "finishing/parallel_planes.h"
+#include "finishing/reach_border.h"
 #include "finishing/stepover.h"
 #include "finishing/task_pool.h"
 #include "geometry/trim_domain.h"
@@ -127,9 +129,10 @@ ErrorBudget split_budget(const IsoParams& p) {
 }
 
 struct FaceResult {
-  std::shared_ptr<const PatchGrid> grid;  // working grid the pieces refer to
-  std::vector<PlannedCurve> planned;      // the curves' ball-centre polylines
-  double planned_length = 0.0;            // their length, before any is cut
+  std::shared_ptr<const PatchGrid> grid;       // working grid the pieces refer to
+  std::shared_ptr<const StepoverField> field;  // its tolerances (on *grid)
+  std::vector<PlannedCurve> planned;           // the curves' ball-centre polylines
+  double planned_length = 0.0;                 // their length, before any is cut
   FaceCoverage coverage;
   IsoDirection dir = IsoDirection::V;
   FacePathStats stats;
@@ -159,7 +162,8 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
   r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
                                                                     : face.grid);
   r.dir = dir;
-  const StepoverField field(*r.grid, p, budget.centre_error());
+  r.field = std::make_shared<const StepoverField>(*r.grid, p, budget.centre_error());
+  const StepoverField& field = *r.field;
   r.delta_max = field.max_delta();
   r.coverage = p.pattern == IsoPattern::Uniform
                    ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
@@ -233,16 +237,25 @@ JobPlan plan_job(const std::vector<TopoDS_Face>& all, const std::vector<int>& fa
 struct ModelFaces {
   std::deque<PickedFace> faces;
   std::vector<std::size_t> picked;  // per picked face (in the order given), its place in faces
+  // The other side of the picked open faces finished from both sides
+  // (choose_sides()): places in faces, not in the clearance model (the
+  // surface is there once).
+  std::vector<std::size_t> other_side;
+  // What the patterns plan: picked, then other_side.
+  std::vector<std::size_t> planned() const {
+    std::vector<std::size_t> all = picked;
+    all.insert(all.end(), other_side.begin(), other_side.end());
+    return all;
+  }
 };
 
 // Phase 1: the model. A picked face that OpenCASCADE cannot take is an
-// error naming it; an unpicked one is left unprotected with a warning. A
-// picked open face turned down is finished from its upper side, the side a
-// vertical tool reaches (the grid's normal follows the face's orientation,
-// so the face is taken reversed), with a warning.
-ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& all,
-                       const std::vector<int>& faces, const IsoParams& params,
-                       ClearanceModel& model, std::vector<std::string>& warnings) {
+// error naming it; an unpicked one is left unprotected with a warning. The
+// faces enter the model as they are oriented (the clearance does not depend
+// on the side); then choose_sides() picks the sides of the open ones.
+ModelFaces build_model(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces,
+                       const IsoParams& params, ClearanceModel& model,
+                       std::vector<std::string>& warnings) {
   ModelFaces mf;
   mf.picked.assign(faces.size(), all.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -250,17 +263,10 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
     const auto at = std::find(faces.begin(), faces.end(), f);
     const bool is_picked = at != faces.end();
     if (!is_picked && !params.protect_unpicked_faces) continue;
-    TopoDS_Face face = all[i];
-    bool turned = false;
     try {
       PickedFace& pf =
-          mf.faces.emplace_back(PickedFace{f, PatchGrid::from_face(face, f), std::nullopt});
-      if (is_picked && open_face_turned_down(shape, face, pf.grid)) {
-        face = TopoDS::Face(face.Reversed());
-        turned = true;
-        pf.grid = PatchGrid::from_face(face, f);
-      }
-      pf.trim.emplace(face, pf.grid, f);
+          mf.faces.emplace_back(PickedFace{f, PatchGrid::from_face(all[i], f), std::nullopt});
+      pf.trim.emplace(all[i], pf.grid, f);
       model.add(pf.grid, &*pf.trim);
     } catch (const Standard_Failure& e) {
       if (is_picked)
@@ -273,17 +279,45 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
       warnings.push_back(face_label(f) + " is not protected from the ball: " + e.what());
       continue;
     }
-    if (is_picked) {
-      mf.picked[static_cast<std::size_t>(at - faces.begin())] = mf.faces.size() - 1;
-      if (turned)
-        warnings.push_back(face_label(f) +
-                           " is an open face whose orientation puts the material above it: "
-                           "finished from its upper side, the side a vertical tool reaches "
-                           "(the face taken reversed)");
-    }
+    if (is_picked) mf.picked[static_cast<std::size_t>(at - faces.begin())] = mf.faces.size() - 1;
   }
   model.build();
   return mf;
+}
+
+// Phase 1b: the sides of the picked open faces (bounding no solid, so the
+// material may be on either side), those a vertical tool reaches
+// (face_side.h): a face reached only on the side its orientation puts the
+// material is taken reversed, one reached on both sides is finished from
+// both (its other side planned as one more face, mf.other_side), each said
+// in the warnings.
+void choose_sides(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& all,
+                  const IsoParams& params, const ClearanceModel& model, ModelFaces& mf,
+                  std::vector<std::string>& warnings) {
+  const double clearance =
+      model.query_distance(params.ball_radius - params.chord_tolerance - params.gouge_tolerance);
+  for (std::size_t k : mf.picked) {
+    PickedFace& pf = mf.faces[k];
+    const TopoDS_Face& face = all[static_cast<std::size_t>(pf.index)];
+    if (!is_open_face(shape, face)) continue;
+    const FaceSides sides =
+        open_face_sides(pf.grid, *pf.trim, model, params.ball_radius, clearance);
+    if (sides == FaceSides::Reversed) {
+      pf.grid = pf.grid.other_side();
+      warnings.push_back(face_label(pf.index) +
+                         " is an open face whose orientation puts the ball where a vertical tool "
+                         "does not reach: finished from its other side, the side a vertical tool "
+                         "reaches (the face taken reversed)");
+    } else if (sides == FaceSides::Both) {
+      PickedFace& other =
+          mf.faces.emplace_back(PickedFace{pf.index, pf.grid.other_side(), std::nullopt});
+      other.trim.emplace(face, other.grid, pf.index);
+      mf.other_side.push_back(mf.faces.size() - 1);
+      warnings.push_back(face_label(pf.index) +
+                         " is an open face that a vertical tool reaches on both sides: finished "
+                         "from both, each where the tool reaches");
+    }
+  }
 }
 
 // What a pattern hands to linking and to the certificate.
@@ -308,7 +342,7 @@ double lower_bound_of(const ModelFaces& mf, const IsoParams& params) {
 PatternCut cut_parallel_planes(const ModelFaces& mf, const JobPlan& job,
                                const ClearanceModel& model, IsoResult& result, Progress* progress) {
   std::vector<PlaneFace> plane_faces;
-  for (std::size_t k : mf.picked)
+  for (std::size_t k : mf.planned())
     plane_faces.push_back({mf.faces[k].index, &mf.faces[k].grid, &*mf.faces[k].trim});
   PlanePieces cut = parallel_plane_pieces(plane_faces, job.delta, job.params, model, progress);
   result.plane_axis = cut.axis;
@@ -338,10 +372,11 @@ PatternCut cut_constant_scallop(const ModelFaces& mf, const JobPlan& job,
                                 const ClearanceModel& model, IsoResult& result,
                                 Progress* progress) {
   std::vector<ScallopFace> scallop_faces;
-  for (std::size_t k : mf.picked)
+  for (std::size_t k : mf.planned())
     scallop_faces.push_back({mf.faces[k].index, &mf.faces[k].grid, &*mf.faces[k].trim});
   ScallopPieces cut = constant_scallop_pieces(scallop_faces, job.params, model, progress);
   result.face_direction = cut.face_direction;
+  result.face_direction.resize(mf.picked.size());  // the other sides' come after
   result.metrics.sub_isocurves = cut.curves;
   result.metrics.unreachable_length = cut.unreachable_length;
   result.metrics.unreachable_from_above_length = cut.unreachable_from_above;
@@ -356,23 +391,25 @@ PatternCut cut_constant_scallop(const ModelFaces& mf, const JobPlan& job,
 }
 
 // Phase 2a, Adaptive and Uniform: every (face, direction) planned as a task
+// (the faces of mf.planned(): the other sides of two-sided faces too)
 // on several threads (two directions of one face share its trimmed domain,
 // whose hatcher is locked); progress 0 to 0.6. Index: face * directions +
 // direction.
 std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDirection>& dirs,
                                    const JobPlan& job, Progress* progress) {
   const std::size_t nd = dirs.size();
-  const double nf = double(mf.picked.size());
+  const std::vector<std::size_t> places = mf.planned();
+  const double nf = double(places.size());
   const ProgressSlice planning = ProgressSlice(progress).sub(0.0, 0.6);
-  std::vector<FaceResult> tried(mf.picked.size() * nd);
+  std::vector<FaceResult> tried(places.size() * nd);
   for_each_index(tried.size(), job.params.threads, [&](std::size_t k) {
     const std::size_t f = k / nd, di = k % nd;
-    const PickedFace& face = mf.faces[mf.picked[f]];
+    const PickedFace& face = mf.faces[places[f]];
     try {
       const double lo = (double(f) + double(di) / double(nd)) / nf;
       const double hi = (double(f) + double(di + 1) / double(nd)) / nf;
       tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.sub(lo, hi));
-      if (di == 0)
+      if (di == 0 && f < mf.picked.size())  // L* counts a face once
         tried[k].lower_bound = lower_bound_length(face.grid, &*face.trim, job.params.ball_radius,
                                                   job.params.scallop_height);
     } catch (const Standard_Failure& e) {
@@ -425,7 +462,7 @@ std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFac
       cut[k] = cut_planned(*fr.grid, fr.planned.data() + rg.first, fr.planned.data() + rg.last,
                            job.params, model, &cut_stats[k]);
     } catch (const Standard_Failure& e) {
-      throw GeometryError(face_label(mf.faces[mf.picked[rg.face]].index) +
+      throw GeometryError(face_label(mf.faces[mf.planned()[rg.face]].index) +
                           ": OpenCASCADE failed: " + e.GetMessageString());
     }
     const std::lock_guard<std::mutex> guard(cut_lock);
@@ -442,6 +479,34 @@ std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFac
   return pieces;
 }
 
+// Phase 2d: the border passes (reach_border.h) of every face, as tasks;
+// appended after the pieces they refine, in face order. Their curves count
+// as sub-isocurves; their certificate enters the pattern's.
+void add_border_pieces(std::vector<FaceResult>& chosen, const ModelFaces& mf, const JobPlan& job,
+                       const ClearanceModel& model, PatternCut& out) {
+  const std::vector<std::size_t> places = mf.planned();
+  std::vector<BorderCut> border(chosen.size());
+  for_each_index(chosen.size(), job.params.threads, [&](std::size_t f) {
+    const FaceResult& fr = chosen[f];
+    const PickedFace& face = mf.faces[places[f]];
+    BorderFace bf{face.index,    fr.dir,      fr.dir == IsoDirection::V,
+                  fr.grid.get(), &*face.trim, fr.field.get(),
+                  &fr.coverage,  {}};
+    for (const CutPiece& piece : out.pieces)
+      if (piece.grid == fr.grid.get()) bf.cut.push_back(&piece);
+    try {
+      border[f] = border_pieces(bf, job.params, model);
+    } catch (const Standard_Failure& e) {
+      throw GeometryError(face_label(face.index) + ": OpenCASCADE failed: " + e.GetMessageString());
+    }
+  });
+  for (std::size_t f = 0; f < chosen.size(); ++f) {
+    chosen[f].stats.curves += border[f].curves;
+    out.max_scallop = std::max(out.max_scallop, border[f].max_scallop);
+    std::move(border[f].pieces.begin(), border[f].pieces.end(), std::back_inserter(out.pieces));
+  }
+}
+
 // Phase 2, Adaptive and Uniform (Algorithm 1 or the uniform baseline per
 // face): plan, choose the direction, cut; the faces' curves, directions and
 // stats into the result.
@@ -452,10 +517,12 @@ PatternCut cut_isocurves(const ModelFaces& mf, const JobPlan& job, const Clearan
       choose_directions(plan_faces(mf, dirs, job, progress), dirs.size());
   PatternCut out;
   out.pieces = cut_chosen(chosen, mf, job, model, progress);
+  add_border_pieces(chosen, mf, job, model, out);
   for (FaceResult& best : chosen) {
     result.curves.insert(result.curves.end(), best.coverage.curves.begin(),
                          best.coverage.curves.end());
-    result.face_direction.push_back(best.dir);
+    // One direction per picked face: an other side's (after them) is not said.
+    if (result.face_direction.size() < mf.picked.size()) result.face_direction.push_back(best.dir);
     result.metrics.sub_isocurves += best.stats.curves;
     result.metrics.unreachable_length += best.stats.unreachable_length;
     result.metrics.unreachable_from_above_length += best.stats.unreachable_from_above;
@@ -531,7 +598,8 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   // Its accuracy is the gouge tolerance: the queries keep the ball at
   // r - chord_tolerance - gouge_tolerance (query_distance()).
   ClearanceModel model(job.params.gouge_tolerance, 2.0 * job.params.ball_radius);
-  const ModelFaces mf = build_model(shape, all, faces, job.params, model, result.warnings);
+  ModelFaces mf = build_model(all, faces, job.params, model, result.warnings);
+  choose_sides(shape, all, job.params, model, mf, result.warnings);
   PatternCut cut = cut_pattern(mf, job, model, result, progress);
   result.path = link_pieces(std::move(cut.pieces), job.params, model);
   report_progress(progress, 1.0);
