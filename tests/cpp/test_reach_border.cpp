@@ -57,8 +57,8 @@ TEST(ReachBorder, ScallopHoldsWhereTheReachEndsAcrossThePasses) {
     const test::ScallopCheck s =
         test::measure_scallop(plate, res.path, p.ball_radius, 200, 0.01, 1.0, &reach);
     std::cout << (dir == IsoDirection::U ? "U" : "V") << ": scallop measured " << s.max
-              << " <= guaranteed " << res.metrics.guaranteed_scallop << " (asked " << p.scallop_height
-              << "), unreachable samples " << s.unreachable << "/" << s.samples
+              << " <= guaranteed " << res.metrics.guaranteed_scallop << " (asked "
+              << p.scallop_height << "), unreachable samples " << s.unreachable << "/" << s.samples
               << ", sub-isocurves " << res.metrics.sub_isocurves << "\n";
     // The roof hides about a third of the plate (x > 11 + y / 5 less r).
     EXPECT_GT(s.unreachable, s.samples / 5);
