@@ -307,7 +307,7 @@ struct TrimCase {
 class AdaptiveOnTrimmedFace : public ::testing::TestWithParam<TrimCase> {};
 
 // The face as the core finished it: reversed where it reports an open face
-// turned down (finished from its upper side).
+// finished from its other side (the side a vertical tool reaches).
 TopoDS_Face finished_side(const TopoDS_Face& face, int index, const IsoResult& res) {
   const std::string said =
       "(Face" + std::to_string(index + 1) + ") is an open face whose orientation";
@@ -325,8 +325,8 @@ TEST_P(AdaptiveOnTrimmedFace, StaysInsideAndCoversTheTrimmedDomain) {
   p.scallop_height = c.h;
   p.safe_z = 1000;
   const IsoResult res = adaptive_isocurve(shape, {c.face}, p);
-  // An open face turned down is finished from its upper side: the core takes
-  // it reversed and says so; the checks below then use it so.
+  // An open face reached only on its other side is finished from there: the
+  // core takes it reversed and says so; the checks below then use it so.
   const TopoDS_Face face = finished_side(given, c.face, res);
   const double delta = res.metrics.delta;
   // No contact point outside the trimmed domain (1e-6 mm: the hatcher's and

@@ -196,10 +196,12 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
     const bool vertical = std::abs(a.X() - b.X()) + std::abs(a.Y() - b.Y()) < 1e-12;
     const auto kind = static_cast<MoveKind>(t.kind[i]);
     if (kind == MoveKind::Plunge && b.Z() > a.Z()) {
-      // A lift fed (where a rapid would pass nearer than r to the model):
-      // straight up, keeping the cutting clearance.
+      // A lift fed (where a rapid would pass nearer than r plus the posted
+      // rounding to the model, up a wall): straight up, keeping the cutting
+      // clearance. A retract to the safe height would begin with it too.
       EXPECT_TRUE(vertical) << "move " << i;
       worst_lift = std::min(worst_lift, segment_clearance(model, a, b, 0.05));
+      safe_minutes += a.Distance(b) / p.plunge_rate;
       continue;
     }
     if (kind == MoveKind::Plunge || kind == MoveKind::Ramp) {

@@ -285,10 +285,10 @@ TEST(Robustness, ZLevelRoughingRefusesAModelThatIsNotASolid) {
 
 // tests/data/face.brep is a reversed open face at z = 0: its orientation
 // puts the ball under it, where a vertical tool cannot be. The op finishes
-// it from its upper side: every feed move's tip is on or above the face (no
-// deeper than the stated overcut), nothing is left out as unreachable from
-// above, and the result says the face was taken reversed. Whatever the
-// pattern.
+// it from its upper side, the only one a vertical tool reaches: every feed
+// move's tip is on or above the face (no deeper than the stated overcut),
+// nothing is left out as unreachable from above, and the result says the
+// face was taken reversed. Whatever the pattern.
 TEST(Robustness, OpenFaceTurnedDownIsFinishedFromAbove) {
   const TopoDS_Shape face = test::load("face.brep");
   for (IsoPattern pattern :
@@ -318,8 +318,8 @@ TEST(Robustness, OpenFaceTurnedDownIsReported) {
     const IsoResult r = adaptive_isocurve(s, {0}, p);
     for (const std::string& w : r.warnings)
       if (has(w,
-              "Face1) is an open face whose orientation puts the material above it: "
-              "finished from its upper side"))
+              "Face1) is an open face whose orientation puts the ball where a vertical tool "
+              "does not reach: finished from its other side"))
         return true;
     return false;
   };

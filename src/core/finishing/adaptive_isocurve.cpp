@@ -208,6 +208,7 @@ class AdaptiveRecursion {
     measure_pair(g_, field_,
                  whole ? *whole : iso_distance_squared(c1.curve, c2.curve, ok.lo, ok.hi), c1.v,
                  c2.v, &out_);
+    out_.strips.push_back({c1.v, c2.v, ok});
     done_ += (c2.v - c1.v) * (ok.hi - ok.lo);
     progress_.report(std::min(1.0, done_ / area_));
   }
@@ -244,6 +245,7 @@ bool uniform_ok(const PatchGrid& g, int n, const StepoverField& field, FaceCover
         !too_wide(g, field, v1, v2, {g.umin(), g.umax()}).empty())
       return false;
     measure_pair(g, field, pieces, v1, v2, &m);
+    m.strips.push_back({v1, v2, {g.umin(), g.umax()}});
     prev = std::move(next);
     v1 = v2;
   }

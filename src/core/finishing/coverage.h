@@ -12,13 +12,21 @@
 
 namespace isocam {
 
+// Two adjacent curves of a coverage: levels v1 < v2, accepted (within their
+// tolerance) over `span` of the curve parameter.
+struct CoverageStrip {
+  double v1 = 0.0, v2 = 0.0;
+  Interval span;
+};
+
 // A set of sub-isocurves of one face that is a valid coverage (Definition 1)
 // in the iso-distance sense: adjacent curves are at most delta apart (delta
 // per patch, from the StepoverField).
 struct FaceCoverage {
   std::vector<SubIsocurve> curves;
-  double max_iso_distance = 0.0;    // measured over all adjacent pairs
-  double guaranteed_scallop = 0.0;  // the cusp those distances leave (stepover.h)
+  std::vector<CoverageStrip> strips;  // the adjacent pairs measured
+  double max_iso_distance = 0.0;      // measured over all adjacent pairs
+  double guaranteed_scallop = 0.0;    // the cusp those distances leave (stepover.h)
 };
 
 class StepoverField;

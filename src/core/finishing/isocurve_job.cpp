@@ -2,9 +2,10 @@
 // (adaptive_isocurve() at the end) over named phases, each with its own
 // contract: plan_job (the arguments checked, the budgets split, the work
 // budget), build_model (each face's patch grid, trimmed domain and the
-// clearance model), cut_pattern (ParallelPlanes, ConstantScallop, or
+// clearance model), choose_sides (the sides of open faces a vertical tool
+// reaches), cut_pattern (ParallelPlanes, ConstantScallop, or
 // Algorithm 1 / the uniform baseline per face and direction: plan_faces,
-// choose_directions, cut_chosen), link_pieces (coverage.h), certify (the
+// choose_directions, cut_chosen, add_border_pieces), link_pieces (coverage.h), certify (the
 // measured lengths and times, the two guarantees).
 #include <TopoDS.hxx>
 #include <algorithm>
@@ -27,6 +28,7 @@
 #include "finishing/face_side.h"
 #include "finishing/job_budget.h"
 #include "finishing/parallel_planes.h"
+#include "finishing/reach_border.h"
 #include "finishing/stepover.h"
 #include "finishing/task_pool.h"
 #include "geometry/trim_domain.h"
@@ -127,9 +129,10 @@ ErrorBudget split_budget(const IsoParams& p) {
 }
 
 struct FaceResult {
-  std::shared_ptr<const PatchGrid> grid;  // working grid the pieces refer to
-  std::vector<PlannedCurve> planned;      // the curves' ball-centre polylines
-  double planned_length = 0.0;            // their length, before any is cut
+  std::shared_ptr<const PatchGrid> grid;       // working grid the pieces refer to
+  std::shared_ptr<const StepoverField> field;  // its tolerances (on *grid)
+  std::vector<PlannedCurve> planned;           // the curves' ball-centre polylines
+  double planned_length = 0.0;                 // their length, before any is cut
   FaceCoverage coverage;
   IsoDirection dir = IsoDirection::V;
   FacePathStats stats;
@@ -162,7 +165,8 @@ FaceResult face_in_direction(const PickedFace& face, IsoDirection dir, const Iso
   r.grid = std::make_shared<const PatchGrid>(dir == IsoDirection::U ? face.grid.transposed()
                                                                     : face.grid);
   r.dir = dir;
-  const StepoverField field(*r.grid, p, budget.centre_error());
+  r.field = std::make_shared<const StepoverField>(*r.grid, p, budget.centre_error());
+  const StepoverField& field = *r.field;
   r.delta_max = field.max_delta();
   r.coverage = p.pattern == IsoPattern::Uniform
                    ? uniform_coverage(*r.grid, face.index, dir, field, p, progress)
@@ -237,27 +241,40 @@ struct ModelFaces {
   static constexpr std::size_t kNotBuilt = std::numeric_limits<std::size_t>::max();
   std::deque<PickedFace> faces;
   std::vector<std::size_t> picked;  // per picked face (in the order given), its place in faces
-  // Per picked face: why it is skipped (face_failure(); the phases add the
+  // The other side of the picked open faces finished from both sides
+  // (choose_sides()): places in faces, not in the clearance model (the
+  // surface is there once).
+  std::vector<std::size_t> other_side;
+  // Per slot (below): why it is skipped (face_failure(); the phases add the
   // faces they fail on), empty if it is finished. habit 4: the rest goes on.
+  // Each slot is skipped alone: the two sides of a face are finished or
+  // skipped each on its own (a face is reported skipped when its first
+  // side is).
   std::vector<std::string> skipped;
-  bool live(std::size_t i) const { return skipped[i].empty(); }
-  const PickedFace& face(std::size_t i) const { return faces[picked[i]]; }
-  // A phase failed on picked face i, which the clearance model still has.
-  void skip(std::size_t i, const std::string& reason, std::vector<std::string>& warnings) {
-    skipped[i] = reason;
+
+  // What the patterns plan, by slot: the picked faces (slot = place in the
+  // faces given), then the other sides.
+  std::size_t slots() const { return picked.size() + other_side.size(); }
+  bool live(std::size_t s) const { return skipped[s].empty(); }
+  const PickedFace& face(std::size_t s) const {
+    return faces[s < picked.size() ? picked[s] : other_side[s - picked.size()]];
+  }
+  // A phase failed on slot s, which the clearance model still has.
+  void skip(std::size_t s, const std::string& reason, std::vector<std::string>& warnings) {
+    if (!live(s)) return;
+    skipped[s] = reason;
     warnings.push_back(skipped_face_warning(reason, true));
   }
 };
 
 // Phase 1: the model. A face that cannot be built (a degenerate face, an
 // OpenCASCADE failure) is left out of it with a warning: a picked one is
-// skipped, an unpicked one left unprotected. A
-// picked open face turned down is finished from its upper side, the side a
-// vertical tool reaches (the grid's normal follows the face's orientation,
-// so the face is taken reversed), with a warning.
-ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& all,
-                       const std::vector<int>& faces, const IsoParams& params,
-                       ClearanceModel& model, std::vector<std::string>& warnings) {
+// skipped, an unpicked one left unprotected. The faces enter the model as
+// they are oriented (the clearance does not depend on the side); then
+// choose_sides() picks the sides of the open ones.
+ModelFaces build_model(const std::vector<TopoDS_Face>& all, const std::vector<int>& faces,
+                       const IsoParams& params, ClearanceModel& model,
+                       std::vector<std::string>& warnings) {
   ModelFaces mf;
   mf.picked.assign(faces.size(), ModelFaces::kNotBuilt);
   mf.skipped.assign(faces.size(), std::string());
@@ -267,17 +284,10 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
     const bool is_picked = at != faces.end();
     if (!is_picked && !params.protect_unpicked_faces) continue;
     const std::size_t pos = static_cast<std::size_t>(at - faces.begin());
-    TopoDS_Face face = all[i];
-    bool turned = false;
     const std::optional<std::string> failed = face_failure(f, [&] {
       PickedFace& pf =
-          mf.faces.emplace_back(PickedFace{f, PatchGrid::from_face(face, f), std::nullopt});
-      if (is_picked && open_face_turned_down(shape, face, pf.grid)) {
-        face = TopoDS::Face(face.Reversed());
-        turned = true;
-        pf.grid = PatchGrid::from_face(face, f);
-      }
-      pf.trim.emplace(face, pf.grid, f);
+          mf.faces.emplace_back(PickedFace{f, PatchGrid::from_face(all[i], f), std::nullopt});
+      pf.trim.emplace(all[i], pf.grid, f);
       model.add(pf.grid, &*pf.trim);
     });
     if (failed && is_picked) {
@@ -288,17 +298,47 @@ ModelFaces build_model(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>
       if (!is_picked) warnings.push_back(*failed + "; it is not protected from the ball");
       continue;
     }
-    if (is_picked) {
-      mf.picked[pos] = mf.faces.size() - 1;
-      if (turned)
-        warnings.push_back(face_label(f) +
-                           " is an open face whose orientation puts the material above it: "
-                           "finished from its upper side, the side a vertical tool reaches "
-                           "(the face taken reversed)");
-    }
+    if (is_picked) mf.picked[pos] = mf.faces.size() - 1;
   }
   model.build();
   return mf;
+}
+
+// Phase 1b: the sides of the picked open faces (bounding no solid, so the
+// material may be on either side), those a vertical tool reaches
+// (face_side.h): a face reached only on the side its orientation puts the
+// material is taken reversed, one reached on both sides is finished from
+// both (its other side planned as one more slot, mf.other_side), each said
+// in the warnings.
+void choose_sides(const TopoDS_Shape& shape, const std::vector<TopoDS_Face>& all,
+                  const IsoParams& params, const ClearanceModel& model, ModelFaces& mf,
+                  std::vector<std::string>& warnings) {
+  const double clearance =
+      model.query_distance(params.ball_radius - params.chord_tolerance - params.gouge_tolerance);
+  for (std::size_t i = 0; i < mf.picked.size(); ++i) {
+    if (!mf.live(i)) continue;
+    PickedFace& pf = mf.faces[mf.picked[i]];
+    const TopoDS_Face& face = all[static_cast<std::size_t>(pf.index)];
+    if (!is_open_face(shape, face)) continue;
+    const FaceSides sides =
+        open_face_sides(pf.grid, *pf.trim, model, params.ball_radius, clearance);
+    if (sides == FaceSides::Reversed) {
+      pf.grid = pf.grid.other_side();
+      warnings.push_back(face_label(pf.index) +
+                         " is an open face whose orientation puts the ball where a vertical tool "
+                         "does not reach: finished from its other side, the side a vertical tool "
+                         "reaches (the face taken reversed)");
+    } else if (sides == FaceSides::Both) {
+      PickedFace& other =
+          mf.faces.emplace_back(PickedFace{pf.index, pf.grid.other_side(), std::nullopt});
+      other.trim.emplace(face, other.grid, pf.index);
+      mf.other_side.push_back(mf.faces.size() - 1);
+      mf.skipped.emplace_back();
+      warnings.push_back(face_label(pf.index) +
+                         " is an open face that a vertical tool reaches on both sides: finished "
+                         "from both, each where the tool reaches");
+    }
+  }
 }
 
 // What a pattern hands to linking and to the certificate.
@@ -320,10 +360,11 @@ double lower_bound_of(const ModelFaces& mf, const IsoParams& params) {
   return sum;
 }
 
-// The picked faces not skipped so far, by their place in the faces given.
+// The slots (picked faces by their place in the faces given, then the
+// other sides) not skipped so far.
 std::vector<std::size_t> live_faces(const ModelFaces& mf) {
   std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < mf.picked.size(); ++i)
+  for (std::size_t i = 0; i < mf.slots(); ++i)
     if (mf.live(i)) out.push_back(i);
   return out;
 }
@@ -374,7 +415,7 @@ PatternCut cut_constant_scallop(ModelFaces& mf, const JobPlan& job, const Cleara
   ScallopPieces cut = constant_scallop_pieces(scallop_faces, job.params, model, progress);
   result.face_direction.assign(mf.picked.size(), IsoDirection::Auto);
   for (std::size_t k = 0; k < live.size(); ++k) {
-    result.face_direction[live[k]] = cut.face_direction[k];
+    if (live[k] < mf.picked.size()) result.face_direction[live[k]] = cut.face_direction[k];
     if (cut.failed[k]) mf.skip(live[k], *cut.failed[k], result.warnings);
   }
   result.metrics.sub_isocurves = cut.curves;
@@ -390,16 +431,16 @@ PatternCut cut_constant_scallop(ModelFaces& mf, const JobPlan& job, const Cleara
   return out;
 }
 
-// Phase 2a, Adaptive and Uniform: every (face, direction) planned as a task
-// on several threads (two directions of one face share its trimmed domain,
-// whose hatcher is locked); progress 0 to 0.6. Index: face (its place in
-// the faces given) * directions + direction. A direction whose planning
+// Phase 2a, Adaptive and Uniform: every (slot, direction) planned as a task
+// (the other sides of two-sided faces too) on several threads (two directions of one face share its
+// trimmed domain, whose hatcher is locked); progress 0 to 0.6. Index: slot * directions +
+// direction. A direction whose planning
 // fails on the geometry has `failed` set; a face skipped before is not
 // planned (`failed` set too).
 std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDirection>& dirs,
                                    const JobPlan& job, Progress* progress) {
   const std::size_t nd = dirs.size();
-  std::vector<FaceResult> tried(mf.picked.size() * nd);
+  std::vector<FaceResult> tried(mf.slots() * nd);
   TaskProgress planning(ProgressSlice(progress).sub(0.0, 0.6), tried.size());
   for_each_index(tried.size(), job.params.threads, [&](std::size_t k) {
     const std::size_t f = k / nd, di = k % nd;
@@ -411,7 +452,7 @@ std::vector<FaceResult> plan_faces(const ModelFaces& mf, const std::vector<IsoDi
     const PickedFace& face = mf.face(f);
     double lower_bound = 0.0;  // the face's L*, first: kept if this direction fails
     const std::optional<std::string> failed = face_failure(face.index, [&] {
-      if (di == 0)
+      if (di == 0 && f < mf.picked.size())  // L* counts a face once
         lower_bound = lower_bound_length(face.grid, &*face.trim, job.params.ball_radius,
                                          job.params.scallop_height);
       tried[k] = face_in_direction(face, dirs[di], job.params, job.budget, planning.task(k));
@@ -502,9 +543,45 @@ std::vector<CutPiece> cut_chosen(std::vector<FaceResult>& chosen, const ModelFac
   return pieces;
 }
 
+// Phase 2d: the border passes (reach_border.h) of every face, as tasks;
+// appended after the pieces they refine, in face order. Their curves count
+// as sub-isocurves; their certificate enters the pattern's. A face on which
+// they fail gets `failed` and loses its pieces (its coverage would not hold).
+void add_border_pieces(std::vector<FaceResult>& chosen, const ModelFaces& mf, const JobPlan& job,
+                       const ClearanceModel& model, PatternCut& out) {
+  std::vector<BorderCut> border(chosen.size());
+  std::vector<std::optional<std::string>> failed(chosen.size());
+  for_each_index(chosen.size(), job.params.threads, [&](std::size_t f) {
+    const FaceResult& fr = chosen[f];
+    if (fr.failed) return;
+    const PickedFace& face = mf.face(f);
+    BorderFace bf{face.index,    fr.dir,      fr.dir == IsoDirection::V,
+                  fr.grid.get(), &*face.trim, fr.field.get(),
+                  &fr.coverage,  {}};
+    for (const CutPiece& piece : out.pieces)
+      if (piece.grid == fr.grid.get()) bf.cut.push_back(&piece);
+    failed[f] = face_failure(face.index, [&] { border[f] = border_pieces(bf, job.params, model); });
+  });
+  for (std::size_t f = 0; f < chosen.size(); ++f) {
+    if (!failed[f]) continue;
+    chosen[f].failed = failed[f];
+    const PatchGrid* grid = chosen[f].grid.get();
+    out.pieces.erase(std::remove_if(out.pieces.begin(), out.pieces.end(),
+                                    [&](const CutPiece& p) { return p.grid == grid; }),
+                     out.pieces.end());
+  }
+  for (std::size_t f = 0; f < chosen.size(); ++f) {
+    if (chosen[f].failed) continue;
+    chosen[f].stats.curves += border[f].curves;
+    out.max_scallop = std::max(out.max_scallop, border[f].max_scallop);
+    std::move(border[f].pieces.begin(), border[f].pieces.end(), std::back_inserter(out.pieces));
+  }
+}
+
 // Phase 2, Adaptive and Uniform (Algorithm 1 or the uniform baseline per
-// face): plan, choose the direction, cut; the faces' curves, directions and
-// stats into the result.
+// face): plan, choose the direction, cut, the border passes; the faces'
+// curves, directions and stats into the result (one direction per picked
+// face: an other side's is not said).
 PatternCut cut_isocurves(ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
                          IsoResult& result, Progress* progress) {
   const std::vector<IsoDirection> dirs = directions_to_try(job.params);
@@ -512,16 +589,15 @@ PatternCut cut_isocurves(ModelFaces& mf, const JobPlan& job, const ClearanceMode
       choose_directions(plan_faces(mf, dirs, job, progress), dirs.size(), mf, result.warnings);
   PatternCut out;
   out.pieces = cut_chosen(chosen, mf, job, model, progress);
+  add_border_pieces(chosen, mf, job, model, out);
+  result.face_direction.assign(mf.picked.size(), IsoDirection::Auto);
   for (std::size_t f = 0; f < chosen.size(); ++f) {
     FaceResult& best = chosen[f];
-    if (best.failed && mf.live(f)) mf.skip(f, *best.failed, result.warnings);
-    if (best.failed) {
-      result.face_direction.push_back(IsoDirection::Auto);
-      continue;
-    }
+    if (best.failed) mf.skip(f, *best.failed, result.warnings);
+    if (!mf.live(f)) continue;
     result.curves.insert(result.curves.end(), best.coverage.curves.begin(),
                          best.coverage.curves.end());
-    result.face_direction.push_back(best.dir);
+    if (f < mf.picked.size()) result.face_direction[f] = best.dir;
     result.metrics.sub_isocurves += best.stats.curves;
     result.metrics.unreachable_length += best.stats.unreachable_length;
     result.metrics.unreachable_from_above_length += best.stats.unreachable_from_above;
@@ -583,7 +659,9 @@ void record_skipped(const ModelFaces& mf, const std::vector<int>& faces, IsoResu
   result.skipped_faces.clear();
   for (std::size_t i = 0; i < faces.size(); ++i)
     if (!mf.live(i)) result.skipped_faces.push_back(faces[i]);
-  if (result.skipped_faces.size() == faces.size()) throw_every_face_failed(mf.skipped);
+  if (result.skipped_faces.size() == faces.size())
+    throw_every_face_failed(
+        std::vector<std::string>(mf.skipped.begin(), mf.skipped.begin() + faces.size()));
 }
 
 }  // namespace
@@ -603,8 +681,9 @@ IsoResult adaptive_isocurve(const TopoDS_Shape& shape, const std::vector<int>& f
   // Its accuracy is the gouge tolerance: the queries keep the ball at
   // r - chord_tolerance - gouge_tolerance (query_distance()).
   ClearanceModel model(job.params.gouge_tolerance, 2.0 * job.params.ball_radius);
-  ModelFaces mf = build_model(shape, all, faces, job.params, model, result.warnings);
+  ModelFaces mf = build_model(all, faces, job.params, model, result.warnings);
   record_skipped(mf, faces, result);
+  choose_sides(shape, all, job.params, model, mf, result.warnings);
   PatternCut cut = cut_pattern(mf, job, model, result, progress);
   record_skipped(mf, faces, result);
   result.path = link_pieces(std::move(cut.pieces), job.params, model);

@@ -84,8 +84,7 @@ class AirMoves {
         safe_c_(p.safe_z + p.ball_radius),
         cut_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)),
         air_(model.query_distance(p.ball_radius + p.air_clearance)),
-        touch_(
-            model.query_distance(p.ball_radius - 0.5 * (p.chord_tolerance + p.gouge_tolerance))) {}
+        touch_(model.query_distance(p.ball_radius + 0.5 * std::sqrt(3.0) * p.posted_resolution)) {}
 
   double cutting_clearance() const { return cut_; }
 
@@ -154,11 +153,13 @@ class AirMoves {
   // A lift straight up from a cutting position a to centre height `top`
   // keeps the cutting clearance r - c - g (the reach from above,
   // coverage.h); where, above its first c + g, it passes nearer than
-  // r - (c + g) / 2 to the model (a piece ends where the reach does, beside
-  // an overhang: the column grazes it), its lower part is fed rather than a
-  // rapid: up to the lowest of the heights a.z + air_clearance x 2^k from
-  // which the rest keeps that (the whole lift if none). (A lift along a wall
-  // at r stays a rapid.) Returns the height where the rapid starts.
+  // r + p to the model (p the posted rounding: a piece ends where the reach
+  // does, beside an overhang, and the column grazes it; or it runs up a
+  // wall at r, which the rounding may move into the wall), its lower part
+  // is fed rather than a rapid: up to the lowest of the heights
+  // a.z + air_clearance x 2^k from which the rest keeps that (the whole lift
+  // if none), so that no posted rapid cuts. Returns the height where the
+  // rapid starts.
   double lift_fed_to(const gp_Pnt& a, double top) const {
     const double start = a.Z() + p_.chord_tolerance + p_.gouge_tolerance;
     if (top <= start || model_.clear(up(a, start), up(a, top), touch_)) return a.Z();

@@ -68,6 +68,13 @@ class PatchGrid {
   // The same surface with u and v exchanged; the material side is kept (the
   // normal of the transposed grid is the same vector in space).
   PatchGrid transposed() const;
+  // The same surface with the material on the other side (the normal
+  // reversed, as for the face taken reversed); the parameters are kept.
+  PatchGrid other_side() const {
+    PatchGrid g = *this;
+    g.flip_normal_ = !flip_normal_;
+    return g;
+  }
 
   // The iso-v curve S(., v) as an exact piecewise Bezier in u.
   PiecewiseBezier iso_v(double v) const;

@@ -30,9 +30,13 @@
 // out (unreachable_from_above_length, and a warning), and every vertical move
 // from or to a pass -- the lift to the safe height, a plunge from straight
 // above -- keeps the cutting clearance. An open face (one that bounds no
-// solid of the shape) is finished from the side a vertical tool reaches:
-// where its orientation puts the material above it (its normal points down
-// on average, by area), the op takes it reversed and says so in `warnings`.
+// solid of the shape) is finished from the sides a vertical tool reaches
+// (sampled, finishing/face_side.h): taken reversed where only the other side
+// is reached, from both sides where both are, each said in `warnings`.
+// Where of two adjacent passes only one keeps a piece (the other cut by the
+// clearance, the reach or the face's wires), middle passes are added until
+// that one alone leaves at most scallop_height (finishing/reach_border.h);
+// that bound is part of guaranteed_scallop.
 //
 // The guarantees (GuaranteedScallop, GuaranteedOvercut of the FreeCAD op).
 // Let c be the chord tolerance, g the gouge tolerance and p = sqrt(3)/2 x
