@@ -134,7 +134,7 @@ class ObjectSpiralPocket(pocket_glue.PocketOp):
                 return core.pocket_faces(brep, faces, params, levels, ball_end, progress)
 
             res = self.run_core(core, call, translate("IsoCAM", "Spiral pocket"))
-            for message in res.metrics.messages:
+            for message in res.warnings:
                 log.warning("%s: %s: %s" % (obj.Label, base.Label, message))
             if len(res.kind) > 0:
                 results.append(res)

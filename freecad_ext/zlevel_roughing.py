@@ -143,7 +143,7 @@ class ObjectZLevelRoughing(pocket_glue.PocketOp):
             return core.zlevel_roughing(model_brep, stock_brep, params, levels, stl, progress)
 
         res = self.run_core(core, call, translate("IsoCAM", "Z-level roughing"))
-        for message in res.metrics.messages:
+        for message in res.warnings:
             log.warning("%s: %s" % (obj.Label, message))
         if len(res.kind) == 0:
             raise IsoCAMError(

@@ -32,6 +32,7 @@ struct PyPocketResult {
   py::array_t<std::uint8_t> kind;
   py::array_t<double> xyz, centre;
   PocketMetrics metrics;
+  std::vector<std::string> warnings;
 };
 
 PyPocketResult to_python(PocketResult&& r) {
@@ -40,6 +41,7 @@ PyPocketResult to_python(PocketResult&& r) {
   out.xyz = py_path::xyz_array(r.path);
   out.centre = py_path::centre_array(r.path);
   out.metrics = std::move(r.metrics);
+  out.warnings = std::move(r.warnings);
   return out;
 }
 
@@ -144,8 +146,7 @@ void bind_pocketing(py::module_& m) {
       .def_readonly("min_interval", &PocketMetrics::min_interval)
       .def_readonly("max_interval", &PocketMetrics::max_interval)
       .def_readonly("reduced_intervals", &PocketMetrics::reduced_intervals)
-      .def_readonly("warnings", &PocketMetrics::warnings)
-      .def_readonly("messages", &PocketMetrics::messages);
+      .def_readonly("warnings", &PocketMetrics::warnings, "faces skipped (count)");
 
   py::class_<PyPocketResult>(m, "PocketResult")
       .def_readonly("kind", &PyPocketResult::kind,
@@ -153,7 +154,9 @@ void bind_pocketing(py::module_& m) {
       .def_readonly("xyz", &PyPocketResult::xyz, "float64 (N,3): move end points, tool tip, mm")
       .def_readonly("centre", &PyPocketResult::centre,
                     "float64 (N,2): arc centres (NaN for other moves)")
-      .def_readonly("metrics", &PyPocketResult::metrics);
+      .def_readonly("metrics", &PyPocketResult::metrics)
+      .def_readonly("warnings", &PyPocketResult::warnings,
+                    "list of str: the faces skipped, each with its reason (as finishing)");
 
   m.def(
       "pocket_faces",
@@ -173,7 +176,7 @@ void bind_pocketing(py::module_& m) {
       "at the z levels `depths` (top to bottom). Islands: the floors' inner wires and the "
       "material\n"
       "of the shape's solids above each level. A non-planar floor needs ball_end=True.\n"
-      "Faces that cannot be pocketed are reported in metrics.messages.");
+      "Faces that cannot be pocketed are reported in the result's warnings.");
 
   m.def(
       "zlevel_roughing",

@@ -149,7 +149,7 @@ TEST(PocketCases, FaceBrepPlanarWithTwoHoles) {
   const PocketResult res = pocket_faces(shape, {0}, fp);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ASSERT_TRUE(res.metrics.messages.empty()) << res.metrics.messages.front();
+  ASSERT_TRUE(res.warnings.empty()) << res.warnings.front();
   EXPECT_EQ(res.metrics.levels, 2);
   const std::vector<Loop> truth = face_region(faces[0], tol / 50);
   ASSERT_EQ(truth.size(), 3u);  // outline + two circular holes

@@ -115,13 +115,13 @@ TEST(PocketFloor, PocketFacesDispatchesASculpturedFloor) {
   fp.depths = {10, 0};  // both below the floor's top: no flat level
   fp.ball_end = true;
   const PocketResult res = pocket_faces(test::case_study_floor(), {0}, fp);
-  EXPECT_TRUE(res.metrics.messages.empty());
+  EXPECT_TRUE(res.warnings.empty());
   EXPECT_EQ(res.metrics.levels, 1);
   EXPECT_GT(res.metrics.cl_points, 50);
   fp.ball_end = false;
   const PocketResult flat = pocket_faces(test::case_study_floor(), {0}, fp);
-  ASSERT_EQ(flat.metrics.messages.size(), 1u);
-  EXPECT_NE(flat.metrics.messages[0].find("ball-end"), std::string::npos);
+  ASSERT_EQ(flat.warnings.size(), 1u);
+  EXPECT_NE(flat.warnings[0].find("ball-end"), std::string::npos);
   EXPECT_EQ(flat.path.size(), 0u);
 }
 

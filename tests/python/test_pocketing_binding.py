@@ -94,7 +94,7 @@ class PocketBinding(unittest.TestCase):
         self.assertEqual(profiles[0].shape[1], 5)
         z = 0.0
         res = core.pocket_faces(brep, [0], params(safe_z=z + 50), [z], False)
-        self.assertEqual(res.metrics.messages, [])
+        self.assertEqual(res.warnings, [])
         self.assertGreater(res.metrics.loops, 0)
 
     def test_bad_arguments_name_themselves(self):

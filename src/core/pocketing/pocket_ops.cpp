@@ -116,9 +116,9 @@ void check_has_solid(const TopoDS_Shape& shape, const std::string& name) {
                         "solid, or it would cut through the model; make a solid of it first");
 }
 
-void note(PocketMetrics& m, const std::string& msg) {
-  m.messages.push_back(msg);
-  ++m.warnings;
+void note(PocketResult& res, const std::string& msg) {
+  res.warnings.push_back(msg);
+  ++res.metrics.warnings;
 }
 
 }  // namespace
@@ -151,12 +151,12 @@ PocketResult pocket_faces(const TopoDS_Shape& shape, const std::vector<int>& fac
     try {
       const FloorInfo info = classify(face);
       if (info.vertical) {
-        note(res.metrics, name + ": a vertical face is not a floor; skipped");
+        note(res, name + ": a vertical face is not a floor; skipped");
         continue;
       }
       const std::vector<Loop> base = face_region(face, p.tolerance);
       if (base.empty() || region_area(base) <= p.tolerance * p.tolerance) {
-        note(res.metrics, name + ": the face has no area in plan view; skipped");
+        note(res, name + ": the face has no area in plan view; skipped");
         continue;
       }
       const std::size_t before = res.path.size();
@@ -164,7 +164,7 @@ PocketResult pocket_faces(const TopoDS_Shape& shape, const std::vector<int>& fac
         pocket_levels(base, shape, fp.depths, 0.0, 0.0, p, res, fs);
       } else {
         if (!fp.ball_end) {
-          note(res.metrics, name + ": a sculptured floor needs a ball-end tool; skipped");
+          note(res, name + ": a sculptured floor needs a ball-end tool; skipped");
           continue;
         }
         check_params(p, true);
@@ -182,12 +182,11 @@ PocketResult pocket_faces(const TopoDS_Shape& shape, const std::vector<int>& fac
         check_path_budget(res.path, p);
         ++res.metrics.levels;
       }
-      if (res.path.size() == before)
-        note(res.metrics, name + ": too small for the tool; nothing to cut");
+      if (res.path.size() == before) note(res, name + ": too small for the tool; nothing to cut");
     } catch (const GeometryError& e) {
-      note(res.metrics, name + ": " + e.what());
+      note(res, name + ": " + e.what());
     } catch (const Standard_Failure& e) {
-      note(res.metrics, name + ": OpenCASCADE failed (" + e.GetMessageString() + ")");
+      note(res, name + ": OpenCASCADE failed (" + e.GetMessageString() + ")");
     }
   }
   measure_path(res.path, res.metrics);

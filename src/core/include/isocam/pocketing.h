@@ -71,15 +71,17 @@ struct PocketMetrics {
   double min_interval = 0.0;  // smallest / largest path interval used (mm)
   double max_interval = 0.0;
   int reduced_intervals = 0;  // steps reduced so that no material is left
-  int warnings = 0;           // faces skipped (the reasons are in messages)
-  std::vector<std::string> messages;
+  int warnings = 0;           // faces skipped (the reasons are in PocketResult::warnings)
 };
 
 // The path has G2/G3 arcs (MoveKind::ArcCW/ArcCCW, centres in path.cx/cy)
 // where the profile has circular arcs; rapids, feeds and plunges otherwise.
+// Warnings as the finishing results give them (IsoResult, FiveAxisResult):
+// one message per face skipped, naming it and the reason.
 struct PocketResult {
   Toolpath path;
   PocketMetrics metrics;
+  std::vector<std::string> warnings;
 };
 
 // A region from an outer profile and islands given in any orientation.
@@ -115,7 +117,7 @@ struct FacePocketParams {
 // Shape). A planar horizontal floor is cut at every level down to it; a
 // sculptured floor is cut at the levels above it and then followed by the
 // ball (ball_end required). A face that cannot be pocketed (too small for
-// the tool, vertical) is reported in metrics.messages and skipped.
+// the tool, vertical) is reported in `warnings` and skipped.
 PocketResult pocket_faces(const TopoDS_Shape& shape, const std::vector<int>& faces,
                           const FacePocketParams& params, Progress* progress = nullptr);
 
