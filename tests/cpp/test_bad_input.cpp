@@ -93,14 +93,6 @@ TopoDS_Face degenerate_face(double below) {
   return BRepBuilderAPI_MakeFace(s, 1e-7).Face();
 }
 
-TopoDS_Shape compound(const std::vector<TopoDS_Shape>& shapes) {
-  BRep_Builder b;
-  TopoDS_Compound c;
-  b.MakeCompound(c);
-  for (const TopoDS_Shape& s : shapes) b.Add(c, s);
-  return c;
-}
-
 // The warnings that name `label` (e.g. "Face2").
 std::vector<std::string> naming(const IsoResult& r, const std::string& label) {
   std::vector<std::string> out;
@@ -115,7 +107,7 @@ std::vector<std::string> naming(const IsoResult& r, const std::string& label) {
 // either, so the job is the same), for every pattern.
 TEST(BadInput, DegenerateFaceBesideAGoodOneIsSkipped) {
   const TopoDS_Face good_face = test::figure2_ruled_surface();
-  const TopoDS_Shape s = compound({good_face, degenerate_face(40)});
+  const TopoDS_Shape s = test::compound({good_face, degenerate_face(40)});
   for (IsoPattern pattern : {IsoPattern::Adaptive, IsoPattern::ParallelPlanes,
                              IsoPattern::ConstantScallop, IsoPattern::Uniform}) {
     IsoParams p = good();
@@ -158,7 +150,7 @@ TEST(BadInput, GuardTrippedOnOneFaceSkipsIt) {
   for (int i = 1; i <= 2; ++i)
     for (int j = 1; j <= 2; ++j) poles(i, j) = gp_Pnt(-60.0 + 10.0 * i, 10.0 * j, 0);
   const TopoDS_Face square = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
-  const TopoDS_Shape s = compound({test::figure2_ruled_surface(), square});
+  const TopoDS_Shape s = test::compound({test::figure2_ruled_surface(), square});
   IsoParams p = good();
   p.max_depth = 5;
   const IsoResult both = adaptive_isocurve(s, {0, 1}, p);
@@ -177,7 +169,7 @@ TEST(BadInput, GuardTrippedOnOneFaceSkipsIt) {
 
 // Every picked face failing is still an error, naming each face.
 TEST(BadInput, EveryPickedFaceDegenerateIsAnError) {
-  const TopoDS_Shape s = compound({degenerate_face(40), degenerate_face(60)});
+  const TopoDS_Shape s = test::compound({degenerate_face(40), degenerate_face(60)});
   for (IsoPattern pattern : {IsoPattern::Adaptive, IsoPattern::ParallelPlanes}) {
     IsoParams p = good();
     p.pattern = pattern;

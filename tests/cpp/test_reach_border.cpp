@@ -16,17 +16,10 @@
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
 #include "support/checks.h"
+#include "support/models.h"
 
 namespace isocam {
 namespace {
-
-TopoDS_Shape compound(const std::vector<TopoDS_Face>& faces) {
-  BRep_Builder b;
-  TopoDS_Compound c;
-  b.MakeCompound(c);
-  for (const TopoDS_Face& f : faces) b.Add(c, f);
-  return c;
-}
 
 IsoParams params(double r, double h, IsoDirection dir) {
   IsoParams p;
@@ -49,7 +42,7 @@ TEST(ReachBorder, ScallopHoldsWhereTheReachEndsAcrossThePasses) {
   BRepBuilderAPI_MakePolygon edge(gp_Pnt(12, -1, 3), gp_Pnt(22, -1, 3), gp_Pnt(22, 21, 3),
                                   gp_Pnt(16, 21, 3), true);
   const TopoDS_Face roof = BRepBuilderAPI_MakeFace(edge.Wire(), true).Face();
-  const TopoDS_Shape shape = compound({plate, roof});
+  const TopoDS_Shape shape = test::compound({plate, roof});
   for (IsoDirection dir : {IsoDirection::U, IsoDirection::V}) {
     const IsoParams p = params(1.0, 0.01, dir);
     const IsoResult res = adaptive_isocurve(shape, {0}, p);

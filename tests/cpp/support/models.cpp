@@ -8,6 +8,7 @@
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
+#include <BRep_Builder.hxx>
 #include <Bnd_Box.hxx>
 #include <GeomAPI_PointsToBSplineSurface.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -16,6 +17,7 @@
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#include <TopoDS_Compound.hxx>
 #include <cmath>
 #include <gp_Trsf.hxx>
 #include <stdexcept>
@@ -118,6 +120,14 @@ TopoDS_Shape scaled(const TopoDS_Shape& shape, double factor) {
   gp_Trsf t;
   t.SetScale(gp_Pnt(0, 0, 0), factor);
   return BRepBuilderAPI_Transform(shape, t, true).Shape();
+}
+
+TopoDS_Shape compound(const std::vector<TopoDS_Shape>& shapes) {
+  BRep_Builder b;
+  TopoDS_Compound c;
+  b.MakeCompound(c);
+  for (const TopoDS_Shape& s : shapes) b.Add(c, s);
+  return c;
 }
 
 }  // namespace isocam::test

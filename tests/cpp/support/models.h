@@ -30,6 +30,10 @@ TopoDS_Shape house_on_the_hill();
 // faces above the ground (not the block's sides and bottom).
 std::vector<int> house_on_the_hill_picked(const TopoDS_Shape& shape);
 
+// A compound of the shapes, in their order (face i of it is the i-th face
+// met, as FreeCAD's FaceN).
+TopoDS_Shape compound(const std::vector<TopoDS_Shape>& shapes);
+
 // The shape scaled uniformly about the origin.
 TopoDS_Shape scaled(const TopoDS_Shape& shape, double factor);
 
