@@ -210,6 +210,12 @@ def _freecad_runs(mode):
                 op.CutPattern = "Line"
                 op.CutPatternAngle = 0.0
                 op.BoundBox = "Stock"
+                # Off, the cutter's centre may go a radius beyond the model's
+                # outline, so the ball reaches the faces up to their edges
+                # as IsoCAM's does; on (FreeCAD's default) it stays a radius
+                # inside and leaves a band of up to r uncut along every
+                # open edge (MAT: 1 to 3 mm wide, material left >= 0.5 mm).
+                op.BoundaryEnforcement = False
                 op.StepOver = stepover
                 op.SampleInterval = case.sample_interval
                 op.DepthOffset = 0.0
@@ -225,6 +231,7 @@ def _freecad_runs(mode):
                     sample_interval=op.SampleInterval.Value,
                     linear_deflection=op.LinearDeflection.Value,
                     optimize_linear_paths=bool(op.OptimizeLinearPaths),
+                    boundary_enforcement=bool(op.BoundaryEnforcement),
                     wall_s=wall,
                     cpu_s=cpu,
                 )
@@ -391,7 +398,8 @@ def _table(rows, summaries, machine):
         "Compute: the op's recompute, wall and CPU time (IsoCAM on the host's FreeCAD, 3D Surface on "
         "FreeCAD 1.0 with OpenCamLib in the trixie chroot; the same machine). 3D Surface: Planar, "
         "Line at 0 degrees, single pass, the whole model in the stock's bound box, OptimizeLinearPaths "
-        "on (FreeCAD's default); stepover, sample interval and mesh deflection (LinearDeflection) as "
+        "on (FreeCAD's default), BoundaryEnforcement off (the cutter may pass the outline by a radius, "
+        "so the ball reaches the faces' edges); stepover, sample interval and mesh deflection (LinearDeflection) as "
         "shown." % (machine, VERT_FEED, HORIZ_FEED, RAPID_RATE),
         "",
         "| model | operation | stepover / sample interval / mesh deflection (mm) | compute wall / CPU (s) | machine time (min) "
