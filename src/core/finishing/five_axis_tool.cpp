@@ -60,7 +60,8 @@ EdgeProfile::EdgeProfile(const ContactFrame& c, const Cutter& tool, double lead,
 // bull nose: the ellipse's outer parallel curve at rc, its point of outward
 // normal n = (sin psi, -cos psi) being the ellipse's support point for n
 // plus rc n; its x grows strictly with psi over [-pi/2, pi/2] (left end to
-// right end of the lower arc), so psi is bisected.
+// right end of the lower arc), so psi is found by Newton's method inside a
+// bracket.
 double EdgeProfile::edge(double x) const {
   if (rc_ == 0.0) {
     if (!(m_ > 0)) return kInf;
@@ -72,19 +73,32 @@ double EdgeProfile::edge(double x) const {
   }
   // The ellipse c0 + U cos th + V sin th: U = (m cos phi, s), V = (m sin phi, t).
   const double ux = m_ * std::cos(phi_), vx = m_ * std::sin(phi_);
-  auto at = [&](double psi, double* z) {
+  // x(psi) - x, its derivative in *dx and the point's z in *z.
+  auto at = [&](double psi, double* dx, double* z) {
     const double nx = std::sin(psi), nz = -std::cos(psi);
     const double a = ux * nx + s_ * nz, b = vx * nx + t_ * nz, l = std::hypot(a, b);
-    const double ca = l > 0 ? a / l : 0.0, sb = l > 0 ? b / l : 0.0;
-    *z = z0_ + s_ * ca + t_ * sb + rc_ * nz;
-    return x0_ + ux * ca + vx * sb + rc_ * nx;
+    if (!(l > 0)) {
+      *dx = rc_ * nz * -1.0;
+      *z = z0_ + rc_ * nz;
+      return x0_ + rc_ * nx - x;
+    }
+    const double da = ux * -nz + s_ * nx, db = vx * -nz + t_ * nx;  // d/dpsi of a, b
+    const double dl = (a * da + b * db) / l;
+    *z = z0_ + (s_ * a + t_ * b) / l + rc_ * nz;
+    *dx = (ux * da + vx * db) / l - (ux * a + vx * b) * dl / (l * l) - rc_ * nz;
+    return x0_ + (ux * a + vx * b) / l + rc_ * nx - x;
   };
-  double lo = -0.5 * M_PI, hi = 0.5 * M_PI, z = 0.0;
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (at(mid, &z) < x ? lo : hi) = mid;
+  // Newton's method kept inside a bracket (bisection where it would leave it).
+  double lo = -0.5 * M_PI, hi = 0.5 * M_PI, psi = 0.0, dx = 0.0, z = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    const double f = at(psi, &dx, &z);
+    (f < 0 ? lo : hi) = psi;
+    double next = dx > 0 ? psi - f / dx : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - psi) < 1e-15 || hi - lo < 1e-15) break;
+    psi = next;
   }
-  at(0.5 * (lo + hi), &z);
+  at(psi, &dx, &z);
   return z;
 }
 
