@@ -1,6 +1,7 @@
 """5-Axis Strip Finish with a bull nose (issue 13), measured from outside: a
 6 mm bull nose of corner radius 1 mm on the tilted plane (flat), the
-cylinder patch (convex) and the B-spline saddle (concave across one way),
+cylinder patch (convex), a trough (concave: a groove of radius 15) and the
+B-spline saddle (concave across one way),
 posted, read back by rs274 and swept by five_axis_check.py as an exact torus
 and cylinder (sharing nothing with the core): material left and overcut
 within the op's GuaranteedScallop and GuaranteedOvercut. The strip on flat
@@ -13,6 +14,7 @@ Run: tests/freecad/run_in_freecad.sh tests/freecad/test_five_axis_bull.py
 import math
 import unittest
 
+import FreeCAD
 import Part
 
 from test_five_axis_finish import (
@@ -25,6 +27,16 @@ from test_five_axis_finish import (
 )
 
 CORNER = 1.0
+
+
+def trough():
+    """A 16 x 8 block whose top has a groove of radius 15 (axis along Y,
+    13 mm above the top): a concave cylindrical face about 15 mm wide and
+    2 mm deep (across it -kappa (R - rc) / (1 - rc / 15) = 0.14 > sin 5
+    deg: the lead is raised)."""
+    V = FreeCAD.Vector
+    block = Part.makeBox(16, 8, 6, V(-8, -4, -6))
+    return block.cut(Part.makeCylinder(15.0, 8.0, V(0, -4, 13), V(0, 1, 0)))
 
 
 class BullNoseTest(FiveAxisFinishTest):
@@ -47,6 +59,12 @@ class BullNoseTest(FiveAxisFinishTest):
 
     def test_bull_nose_cylinder_patch(self):
         self.run_case("BullCylinder", cylinder_patch(), cylinder_face, corner=CORNER)
+
+    def test_bull_nose_trough(self):
+        _built, op, _left, _over = self.run_case(
+            "BullTrough", trough(), cylinder_face, corner=CORNER
+        )
+        self.assertGreater(op.MaxLeadUsed, op.LeadAngle.Value)
 
     def test_bull_nose_bspline_saddle(self):
         self.run_case("BullSaddle", Part.Shape(saddle()), lambda s: 1, corner=CORNER)
