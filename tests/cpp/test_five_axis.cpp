@@ -130,7 +130,8 @@ TEST(FiveAxis, PosedOnAPlaneAtTheLead) {
 // (radius R' = R - rc, rc up) seen along the feed is the half-ellipse
 // z = rc + R' sin(l) (1 - sqrt(1 - x^2 / R'^2)); the tool's edge is its
 // Minkowski sum with the disc of radius rc, the least over x' of that minus
-// sqrt(rc^2 - (x - x')^2). x_h where the edge first reaches h.
+// sqrt(rc^2 - (x - x')^2) (sampled every rc / 2000). x_h where the edge
+// reaches h.
 double brute_bull_half_width(double R, double rc, double lead_deg, double h) {
   const double r = R - rc, s = r * std::sin(lead_deg * kDeg);
   auto edge = [&](double x) {
@@ -144,9 +145,11 @@ double brute_bull_half_width(double R, double rc, double lead_deg, double h) {
     }
     return z;
   };
-  for (double x = 0; x < R; x += 1e-4)
-    if (edge(x) >= h) return x;
-  return R;
+  // The edge is convex with its lowest point at 0: it grows with x > 0.
+  double lo = 0, hi = R;
+  if (edge(hi) < h) return R;
+  for (int it = 0; it < 40; ++it) (edge(0.5 * (lo + hi)) >= h ? hi : lo) = 0.5 * (lo + hi);
+  return lo;
 }
 
 TEST(FiveAxis, BullNoseHalfWidthIsTheOffsetEllipses) {

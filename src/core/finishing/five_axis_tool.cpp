@@ -54,6 +54,8 @@ EdgeProfile::EdgeProfile(const ContactFrame& c, const Cutter& tool, double lead,
   s_ = r * u.Dot(c.n);
   z0_ = rc_ + s_;
   t_ = r * e2.Dot(c.n);
+  ux_ = p;
+  vx_ = q;
 }
 
 // The flat end (rc = 0): the lower arc of the ellipse in closed form. The
@@ -62,7 +64,7 @@ EdgeProfile::EdgeProfile(const ContactFrame& c, const Cutter& tool, double lead,
 // plus rc n; its x grows strictly with psi over [-pi/2, pi/2] (left end to
 // right end of the lower arc), so psi is found by Newton's method inside a
 // bracket.
-double EdgeProfile::edge(double x) const {
+double EdgeProfile::edge(double x, double* psi) const {
   if (rc_ == 0.0) {
     if (!(m_ > 0)) return kInf;
     const double w = std::acos(std::clamp((x - x0_) / m_, -1.0, 1.0));
@@ -71,54 +73,60 @@ double EdgeProfile::edge(double x) const {
       z = std::min(z, z0_ + s_ * std::cos(th) + t_ * std::sin(th));
     return z;
   }
-  // The ellipse c0 + U cos th + V sin th: U = (m cos phi, s), V = (m sin phi, t).
-  const double ux = m_ * std::cos(phi_), vx = m_ * std::sin(phi_);
-  // x(psi) - x, its derivative in *dx and the point's z in *z.
-  auto at = [&](double psi, double* dx, double* z) {
-    const double nx = std::sin(psi), nz = -std::cos(psi);
-    const double a = ux * nx + s_ * nz, b = vx * nx + t_ * nz, l = std::hypot(a, b);
+  // The ellipse c0 + U cos th + V sin th, U = (ux, s), V = (vx, t): x(psi) -
+  // x, its derivative in *dx and the point's z in *z.
+  auto at = [this, x](double p, double* dx, double* z) {
+    const double nx = std::sin(p), nz = -std::cos(p);
+    const double a = ux_ * nx + s_ * nz, b = vx_ * nx + t_ * nz, l = std::sqrt(a * a + b * b);
     if (!(l > 0)) {
-      *dx = rc_ * nz * -1.0;
+      *dx = -rc_ * nz;
       *z = z0_ + rc_ * nz;
       return x0_ + rc_ * nx - x;
     }
-    const double da = ux * -nz + s_ * nx, db = vx * -nz + t_ * nx;  // d/dpsi of a, b
+    const double da = -ux_ * nz + s_ * nx, db = -vx_ * nz + t_ * nx;  // d/dpsi of a, b
     const double dl = (a * da + b * db) / l;
     *z = z0_ + (s_ * a + t_ * b) / l + rc_ * nz;
-    *dx = (ux * da + vx * db) / l - (ux * a + vx * b) * dl / (l * l) - rc_ * nz;
-    return x0_ + (ux * a + vx * b) / l + rc_ * nx - x;
+    *dx = (ux_ * da + vx_ * db) / l - (ux_ * a + vx_ * b) * dl / (l * l) - rc_ * nz;
+    return x0_ + (ux_ * a + vx_ * b) / l + rc_ * nx - x;
   };
-  // Newton's method kept inside a bracket (bisection where it would leave it).
-  double lo = -0.5 * M_PI, hi = 0.5 * M_PI, psi = 0.0, dx = 0.0, z = 0.0;
+  // Newton's method from *psi kept inside a bracket (bisection where it
+  // would leave it), to 1e-12 mm in x.
+  double lo = -0.5 * M_PI, hi = 0.5 * M_PI, p = std::clamp(*psi, lo, hi), dx = 0.0, z = 0.0;
   for (int it = 0; it < 100; ++it) {
-    const double f = at(psi, &dx, &z);
-    (f < 0 ? lo : hi) = psi;
-    double next = dx > 0 ? psi - f / dx : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - psi) < 1e-15 || hi - lo < 1e-15) break;
-    psi = next;
+    const double f = at(p, &dx, &z);
+    if (std::abs(f) <= 1e-12 || hi - lo < 1e-15) break;
+    (f < 0 ? lo : hi) = p;
+    const double next = dx > 0 ? p - f / dx : lo - 1.0;
+    p = next > lo && next < hi ? next : 0.5 * (lo + hi);
   }
-  at(psi, &dx, &z);
+  *psi = p;
   return z;
 }
 
 double EdgeProfile::height(double x) const {
-  if (x < x_min() || x > x_max()) return kInf;
-  return edge(x) - ground(kappa_, x);
+  double psi = 0.0;
+  return height(x, &psi);
 }
 
+double EdgeProfile::height(double x, double* psi) const {
+  if (x < x_min() || x > x_max()) return kInf;
+  return edge(x, psi) - ground(kappa_, x);
+}
+
+// The scan and bisection start each solve of the edge's normal angle from
+// the previous one (a near x).
 double EdgeProfile::side_width(double h, double sign) const {
   const double reach = sign > 0 ? x_max() : -x_min();
   if (!(reach > 0)) return 0.0;
   const int n = 96;
-  double lo = 0.0;
+  double lo = 0.0, psi = 0.0;
   for (int k = 1; k <= n; ++k) {
     const double x = reach * k / n;
-    if (height(sign * x) >= h) {
+    if (height(sign * x, &psi) >= h) {
       double hi = x;
       for (int it = 0; it < 50; ++it) {
         const double mid = 0.5 * (lo + hi);
-        (height(sign * mid) >= h ? hi : lo) = mid;
+        (height(sign * mid, &psi) >= h ? hi : lo) = mid;
       }
       return lo;
     }
@@ -137,9 +145,9 @@ double EdgeProfile::cusp(double spacing) const {
 }
 
 double EdgeProfile::lowest() const {
-  double low = kInf;
+  double low = kInf, psi = -0.5 * M_PI;
   for (int k = 0; k <= 200; ++k)
-    low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0));
+    low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0, &psi));
   return low;
 }
 

@@ -82,8 +82,12 @@ class EdgeProfile {
 
  private:
   double side_width(double h, double sign) const;
-  double edge(double x) const;  // the tool's lowest point at x, above the tangent plane
+  // height() and the tool's lowest point at x above the tangent line, the
+  // bull nose's edge solved for its normal angle from *psi (then its value).
+  double height(double x, double* psi) const;
+  double edge(double x, double* psi) const;
   double x0_, m_, phi_, z0_, s_, t_, kappa_, rc_;
+  double ux_ = 0, vx_ = 0;  // the rim's x = x0 + ux cos th + vx sin th
 };
 
 // The smallest lead >= base (radians, at most max_lead) that keeps the core
