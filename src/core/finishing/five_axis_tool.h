@@ -60,8 +60,9 @@ ToolPose pose_at(const ContactFrame& c, const Cutter& tool, double lead, double 
 // x across the feed (the ground the circle of curvature kappa_a, convex >
 // 0), for the pose's orientation relative to the frame; x_min() < 0 <
 // x_max() its extent. The edge is exact for the tool moving along F (the
-// core disc's projected rim, an ellipse, offset by rc: found by the outward
-// normal's angle, bisected); what is approximated is the flat end's too:
+// core disc's projected rim, an ellipse, offset by rc: solved for the
+// outward normal's angle by Newton's method); what is approximated is the
+// flat end's too:
 // the ground is its circle of curvature across the feed, the feed is taken
 // straight and the orientation constant, and D is the gap along N, at
 // least the true distance to the circle (so the width is not over-estimated).
