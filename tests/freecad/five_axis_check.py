@@ -185,7 +185,13 @@ def tool_intervals(s, n, tips, axes, radius, length, corner):
     core = radius - corner
     u0, u1 = line_cylinder(s, n, tips + corner * axes, axes, radius, length - corner)
     d0, d1 = line_cylinder(s, n, tips, axes, core, 2 * corner)
-    k0, k1 = line_torus(s, n, tips + corner * axes, axes, core, corner)
+    # The torus only where the line meets the corner's bounding cylinder
+    # (radius R, 2 rc high from the tip): the quartic costs most.
+    b0, b1 = line_cylinder(s, n, tips, axes, radius, 2 * corner)
+    k0, k1 = np.full(len(tips), np.inf), np.full(len(tips), -np.inf)
+    hit = b0 <= b1
+    if np.any(hit):
+        k0[hit], k1[hit] = line_torus(s, n, tips[hit] + corner * axes[hit], axes[hit], core, corner)
     # The corner (the torus and its filling disc) is convex: one interval.
     c0, c1 = np.minimum(d0, k0), np.maximum(d1, k1)
     return np.concatenate([u0, c0]), np.concatenate([u1, c1])
