@@ -395,6 +395,39 @@ def is_flat_end(tool):
     return tool_shape(tool).lower().rstrip("0123456789") in _FLAT_END_SHAPES
 
 
+# The bull nose: the ToolBit shape "bullnose.fcstd" (FreeCAD 1.1 also
+# knows it as "torus").
+_BULL_NOSE_SHAPES = ("bullnose", "torus")
+
+
+def is_bull_nose(tool):
+    """True if FreeCAD describes `tool` as a bull-nose (torus) mill."""
+    return tool_shape(tool).lower().rstrip("0123456789") in _BULL_NOSE_SHAPES
+
+
+def is_flat_bottomed(tool):
+    """True if `tool` is a flat end or a bull nose (a flat bottom to tilt)."""
+    return is_flat_end(tool) or is_bull_nose(tool)
+
+
+def corner_radius(tool):
+    """The corner radius (mm) of a flat end (0) or bull nose, or None if the
+    tool says nothing of it. FreeCAD's bull-nose ToolBit (0.20, 1.0 and 1.1)
+    gives FlatRadius, the radius of its flat bottom: the corner radius is
+    Diameter / 2 - FlatRadius; a tool with a CornerRadius property (legacy
+    Path.Tool) gives it directly."""
+    if is_flat_end(tool) and not is_bull_nose(tool):
+        legacy = getattr(tool, "CornerRadius", None)
+        return float(legacy) if legacy is not None else 0.0
+    corner = getattr(tool, "CornerRadius", None)
+    if corner is not None:
+        return float(corner)
+    flat = getattr(tool, "FlatRadius", None)
+    if flat is None:
+        return None
+    return float(tool.Diameter) / 2.0 - float(flat)
+
+
 def tool_label(tool):
     """A name for the tool to put in messages."""
     return str(getattr(tool, "Label", None) or getattr(tool, "Name", None) or tool)

@@ -1,7 +1,9 @@
-"""5-axis strip finishing with a tilted flat-end tool, as a FreeCAD Path operation.
+"""5-axis strip finishing with a tilted flat-end or bull-nose tool, as a FreeCAD Path operation.
 
 Thin operation (ENGINEERING.md, habit 6): ``opExecute`` maps the op's
-properties and its flat-end tool controller to ``isocam_core.FiveAxisParams``,
+properties and its flat-end or bull-nose tool controller (the bull nose's
+corner radius: Diameter / 2 - FlatRadius, as FreeCAD's bullnose.fcstd
+describes it) to ``isocam_core.FiveAxisParams``,
 runs ``isocam_core.five_axis_finish`` on the picked faces in a worker thread
 and turns the returned flat arrays (move kind, tip, rotary angles) into
 ``Path.Command``s with X Y Z A C words. The geometry is the core's
@@ -11,8 +13,8 @@ The machine convention (also written as a comment at the head of the op's
 commands, so it reaches the posted G-code):
 
 * a table-tilting A/C machine with tool-centre-point control (TCP): X Y Z
-  are the TOOL TIP, the centre of the flat bottom face, in the part's
-  (work) frame, and the controller keeps the tip there while the table turns;
+  are the TOOL TIP, the centre of the flat bottom face (a bull nose's too),
+  in the part's (work) frame, and the controller keeps the tip there while the table turns;
 * the tool axis relative to the part is (sin A sin C, -sin A cos C, cos A);
 * A stays within [AMin, AMax] (default 0..90 degrees); C is unwrapped: each
   move takes the C branch nearest the previous one (no 360 degree unwinds
@@ -20,7 +22,7 @@ commands, so it reaches the posted G-code):
 
 The tool axis at a contact point is the surface normal tilted by LeadAngle
 along the feed (and TiltAngle across it); on concave ground tighter than the
-flat bottom allows, the core raises the lead there (up to MaxLeadAngle) so
+bottom allows, the core raises the lead there (up to MaxLeadAngle) so
 that the heel does not dig in (rear gouge), and says so in the report view.
 Errors follow the other IsoCAM ops: the message names the property or tool,
 the op's Path is emptied and the op is marked invalid. A picked face the
@@ -269,6 +271,7 @@ _ARGUMENT_SOURCES = (
     ("a_max", "property AMax"),
     ("tool_length", "property ToolLength"),
     ("tool_radius", "the tool controller's tool diameter / 2"),
+    ("corner_radius", "the tool controller's bull nose: Diameter / 2 - FlatRadius"),
     ("air_clearance", "property AirClearance"),
     ("rapid_rate", "property RapidRate"),
     ("posted_resolution", "property PostPrecision"),
@@ -279,6 +282,11 @@ _ARGUMENT_SOURCES = (
 def is_flat_end(tool):
     """True if FreeCAD describes `tool` as a flat end mill."""
     return compat.is_flat_end(tool)
+
+
+def is_flat_bottomed(tool):
+    """True if the op can use `tool`: a flat end or a bull nose."""
+    return compat.is_flat_bottomed(tool)
 
 
 class ObjectFiveAxisStripFinish(IsoCAMOp):
@@ -295,7 +303,7 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         return dict(_DEFAULTS)
 
     def accepts_tool(self, tool):
-        return is_flat_end(tool)
+        return is_flat_bottomed(tool)
 
     def opExecute(self, obj):
         started = time.monotonic()
@@ -348,10 +356,11 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
     def _compute(self, obj, core):
         tc = obj.ToolController
         tool = tc.Tool
-        if not is_flat_end(tool):
+        if not is_flat_bottomed(tool):
             raise IsoCAMError(
-                "tool '%s' of tool controller '%s' is not a flat end mill (its shape is '%s'); "
-                "5-Axis Strip Finish needs a flat-end tool (ToolBit shape endmill.fcstd)%s"
+                "tool '%s' of tool controller '%s' is not a flat end mill or bull nose (its shape "
+                "is '%s'); 5-Axis Strip Finish needs a flat-end or bull-nose tool (ToolBit shape "
+                "endmill.fcstd or bullnose.fcstd)%s"
                 % (
                     compat.tool_label(tool),
                     tc.Label,
@@ -364,7 +373,7 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         picked = picked_faces(obj)
         if not picked:
             raise IsoCAMError("no faces picked: set Base to one or more faces of the Job's model")
-        params = _params(obj, core, float(tool.Diameter) / 2.0)
+        params = _params(obj, core, float(tool.Diameter) / 2.0, _corner_radius(tool, tc))
 
         def run(base, faces):
             return self._run_core(core, base.Shape.exportBrepToString(), faces, params, base)
@@ -395,9 +404,22 @@ def _feeds(obj):
     return (h if h > 0 else 1200.0, v if v > 0 else 400.0)
 
 
-def _params(obj, core, radius):
+def _corner_radius(tool, tc):
+    """The bull nose's corner radius (0 for a flat end); the core checks
+    0 <= rc < R and names corner_radius (ARGUMENT_SOURCES: FlatRadius)."""
+    corner = compat.corner_radius(tool)
+    if corner is None:
+        raise IsoCAMError(
+            "bull-nose tool '%s' of tool controller '%s' has no FlatRadius (nor CornerRadius): "
+            "its corner radius is unknown" % (compat.tool_label(tool), tc.Label)
+        )
+    return corner
+
+
+def _params(obj, core, radius, corner=0.0):
     p = core.FiveAxisParams()
     p.tool_radius = radius
+    p.corner_radius = corner
     p.scallop_height = obj.ScallopHeight.Value
     p.lead_angle = obj.LeadAngle.Value
     p.tilt_angle = obj.TiltAngle.Value
@@ -476,7 +498,7 @@ def SetupProperties():
 def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
     """Create a 5-Axis Strip Finish op and add it to `parentJob` (or the only Job).
 
-    `toolController`: a flat-end tool controller to use (headless FreeCAD
+    `toolController`: a flat-end or bull-nose tool controller to use (headless FreeCAD
     cannot choose among several)."""
     return op_base.create_op(
         ObjectFiveAxisStripFinish,
@@ -484,8 +506,8 @@ def Create(name=OP_NAME, obj=None, parentJob=None, toolController=None):
         obj,
         parentJob,
         toolController,
-        "the Job has no flat-end tool controller; add one (ToolBit shape endmill.fcstd) "
-        "or pass toolController=",
+        "the Job has no flat-end or bull-nose tool controller; add one (ToolBit shape "
+        "endmill.fcstd or bullnose.fcstd) or pass toolController=",
     )
 
 

@@ -105,7 +105,7 @@ OPERATIONS = (
         menu_text=QT_TRANSLATE_NOOP("IsoCAM_FiveAxisStripFinish", "5-Axis Strip Finish"),
         tooltip=QT_TRANSLATE_NOOP(
             "IsoCAM_FiveAxisStripFinish",
-            "5-axis finishing of the picked faces with a flat-end tool tilted "
+            "5-axis finishing of the picked faces with a flat-end or bull-nose tool tilted "
             "by a lead angle (Lee 1998): strips several times wider than a ball's at "
             "the same scallop height; posted with A and C for a table-tilting A/C "
             "machine with tool-centre-point control.",
@@ -234,10 +234,10 @@ def _flat_end(inputs):
     if missing:
         return missing
     tool = inputs.tool
-    if not compat.is_flat_end(tool):
+    if not compat.is_flat_bottomed(tool):
         return (
             "Tool controller '%s' holds '%s', a %s tool; this operation needs a "
-            "flat-end tool (ToolBit shape endmill.fcstd)."
+            "flat-end or bull-nose tool (ToolBit shape endmill.fcstd or bullnose.fcstd)."
             % (
                 inputs.tool_controller.Label,
                 compat.tool_label(tool),

@@ -47,6 +47,15 @@ def make_ball_end_tool_controller(job, diameter, **kwargs):
     return make_tool_controller(job, "ballend.fcstd", diameter, **kwargs)
 
 
+def make_bull_nose_tool_controller(job, diameter, corner_radius, **kwargs):
+    """A bull nose (ToolBit shape bullnose.fcstd) of `diameter` and
+    `corner_radius` (mm): FreeCAD's shape takes the flat bottom's radius,
+    FlatRadius = diameter / 2 - corner_radius."""
+    tc = make_tool_controller(job, "bullnose.fcstd", diameter, **kwargs)
+    tc.Tool.FlatRadius = diameter / 2.0 - corner_radius
+    return tc
+
+
 class _FixtureSetup:
     """A pseudo Path object the post emits first: select the work offset and
     go to clearance height above the stock (what FreeCAD's post command does)."""

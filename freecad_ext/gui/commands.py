@@ -93,7 +93,7 @@ def _supports(spec, tc):
     if ("ball_end",) in spec.rules:
         return compat.is_ball_end(tc.Tool)
     if ("flat_end",) in spec.rules:
-        return compat.is_flat_end(tc.Tool)
+        return compat.is_flat_bottomed(tc.Tool)
     return True
 
 
@@ -176,7 +176,7 @@ def create_operation(spec):
         if ("ball_end",) in spec.rules:
             needs = translate("IsoCAM", "a ball-end tool")
         elif ("flat_end",) in spec.rules:
-            needs = translate("IsoCAM", "a flat-end tool")
+            needs = translate("IsoCAM", "a flat-end or bull-nose tool")
         else:
             needs = translate("IsoCAM", "a tool")
         _tell_user(

@@ -54,7 +54,8 @@ void bind_five_axis(py::module_& m) {
                              "Parameters of 5-axis strip finishing (mm, degrees)")
       .def(py::init<>())
       .def_readwrite("tool_radius", &FiveAxisParams::tool_radius)
-      .def_readwrite("corner_radius", &FiveAxisParams::corner_radius, "0 only (flat end)")
+      .def_readwrite("corner_radius", &FiveAxisParams::corner_radius,
+                     "mm, 0 <= rc < tool_radius: 0 a flat end, > 0 a bull nose")
       .def_readwrite("tool_length", &FiveAxisParams::tool_length)
       .def_readwrite("lead_angle", &FiveAxisParams::lead_angle, "degrees")
       .def_readwrite("tilt_angle", &FiveAxisParams::tilt_angle, "degrees")
@@ -113,8 +114,11 @@ void bind_five_axis(py::module_& m) {
       [](const std::string& brep, const std::vector<int>& faces, const FiveAxisParams& params,
          std::shared_ptr<Progress> progress) { return run(brep, faces, params, progress.get()); },
       py::arg("brep"), py::arg("faces"), py::arg("params"), py::arg("progress") = nullptr,
-      "5-axis strip finishing of the faces (0-based) with a tilted flat end.\n"
+      "5-axis strip finishing of the faces (0-based) with a tilted flat end or bull nose.\n"
       "Raises ValueError for bad arguments, RuntimeError for geometry failures.");
   m.def("flat_end_half_width", &flat_end_half_width, py::arg("radius"), py::arg("lead"),
         py::arg("tilt"), py::arg("kappa_across"), py::arg("h"));
+  m.def("strip_half_width", &strip_half_width, py::arg("radius"), py::arg("corner_radius"),
+        py::arg("lead"), py::arg("tilt"), py::arg("kappa_across"), py::arg("h"),
+        "x_h (mm) of the tilted flat end (corner_radius 0) or bull nose, as five_axis.h says");
 }

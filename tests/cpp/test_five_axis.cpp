@@ -2,7 +2,10 @@
 // its closed form on flat ground, the A/C convention and the unwrapped C,
 // the tool posed on a plane (the disc's lowest point on the plane, the axis
 // at the lead angle from the normal, along the feed), and arguments refused
-// by name.
+// by name; the bull nose: its strip against a brute-force Minkowski sum,
+// between the ball's and the flat end's, posed on a plane, and kept off a
+// convex and a concave cylinder by a sampled torus that shares nothing
+// with the core.
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -11,7 +14,10 @@
 #include <TColgp_Array2OfPnt.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
+#include <algorithm>
 #include <cmath>
+#include <gp_Ax3.hxx>
+#include <gp_Cylinder.hxx>
 #include <gp_Pln.hxx>
 #include <string>
 
@@ -120,6 +126,158 @@ TEST(FiveAxis, PosedOnAPlaneAtTheLead) {
   EXPECT_EQ(r.metrics.unreachable_length, 0.0);
 }
 
+// The bull nose on flat ground without tilt, by brute force: its core disc
+// (radius R' = R - rc, rc up) seen along the feed is the half-ellipse
+// z = rc + R' sin(l) (1 - sqrt(1 - x^2 / R'^2)); the tool's edge is its
+// Minkowski sum with the disc of radius rc, the least over x' of that minus
+// sqrt(rc^2 - (x - x')^2) (sampled every rc / 2000). x_h where the edge
+// reaches h.
+double brute_bull_half_width(double R, double rc, double lead_deg, double h) {
+  const double r = R - rc, s = r * std::sin(lead_deg * kDeg);
+  auto edge = [&](double x) {
+    double z = 1e300;
+    const int n = 4000;
+    for (int k = 0; k <= n; ++k) {
+      const double xp = std::clamp(x - rc + 2 * rc * k / n, -r, r);
+      const double d = x - xp;
+      if (std::abs(d) > rc) continue;
+      z = std::min(z, rc + s * (1 - std::sqrt(1 - xp * xp / (r * r))) - std::sqrt(rc * rc - d * d));
+    }
+    return z;
+  };
+  // The edge is convex with its lowest point at 0: it grows with x > 0.
+  double lo = 0, hi = R;
+  if (edge(hi) < h) return R;
+  for (int it = 0; it < 40; ++it) (edge(0.5 * (lo + hi)) >= h ? hi : lo) = 0.5 * (lo + hi);
+  return lo;
+}
+
+TEST(FiveAxis, BullNoseHalfWidthIsTheOffsetEllipses) {
+  for (double lead : {3.0, 5.0, 15.0})
+    for (double h : {0.002, 0.01, 0.05}) {
+      const double got = strip_half_width(3, 1, lead, 0, 0, h);
+      EXPECT_NEAR(got, brute_bull_half_width(3, 1, lead, h), 2e-4) << lead << " " << h;
+      // Wider than the ball of radius rc, narrower than the flat end.
+      EXPECT_GT(got, std::sqrt(2 * 1 * h - h * h)) << lead << " " << h;
+      EXPECT_LT(got, flat_end_half_width(3, lead, 0, 0, h)) << lead << " " << h;
+    }
+  // rc -> 0 tends to the flat end's; the strip narrows as rc grows.
+  const double flat = flat_end_half_width(3, 5, 0, 0, 0.01);
+  EXPECT_NEAR(strip_half_width(3, 1e-6, 5, 0, 0, 0.01), flat, 1e-5);
+  EXPECT_EQ(strip_half_width(3, 0, 5, 0, 0, 0.01), flat);
+  double prev = flat;
+  for (double rc : {0.25, 0.5, 1.0, 2.0, 2.9}) {
+    const double w = strip_half_width(3, rc, 5, 0, 0, 0.01);
+    EXPECT_LT(w, prev) << rc;
+    EXPECT_GT(w, std::sqrt(2 * rc * 0.01 - 1e-4)) << rc;
+    prev = w;
+  }
+  // Curved ground and a tilt act as on the flat end.
+  const double bull = strip_half_width(3, 1, 5, 0, 0, 0.01);
+  EXPECT_LT(strip_half_width(3, 1, 5, 0, 0.05, 0.01), bull);
+  EXPECT_GT(strip_half_width(3, 1, 5, 0, -0.02, 0.01), bull);
+  EXPECT_LT(strip_half_width(3, 1, 5, 10, 0, 0.01), bull);
+}
+
+TEST(FiveAxis, BullNosePosedOnAPlane) {
+  const TopoDS_Face face =
+      BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp_Dir(0, 0, 1)), 0, 20, 0, 12).Face();
+  FiveAxisParams p;
+  p.corner_radius = 1.0;
+  p.lead_angle = 7.0;
+  p.direction = IsoDirection::V;
+  const FiveAxisResult r = five_axis_finish(face, {0}, p);
+  int feeds = 0;
+  const double l = 7.0 * kDeg;
+  for (std::size_t q = 1; q < r.path.size(); ++q) {
+    if (r.path.kind[q] != static_cast<std::uint8_t>(MoveKind::Feed)) continue;
+    ++feeds;
+    EXPECT_NEAR(gp_Vec(r.i[q], r.j[q], r.k[q]).Angle(gp_Vec(0, 0, 1)), l, 1e-9);
+    // The corner's lowest point on the plane: the tip (R - rc) sin l +
+    // rc (1 - cos l) above it.
+    EXPECT_NEAR(r.path.z[q] - 2.0, 2.0 * std::sin(l) + 1.0 * (1 - std::cos(l)), 1e-9);
+  }
+  EXPECT_GT(feeds, 10);
+  EXPECT_LE(r.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
+  const double h_eff = p.scallop_height - (r.metrics.guaranteed_overcut - p.gouge_tolerance);
+  EXPECT_NEAR(r.metrics.flat_strip_width, 2 * strip_half_width(3, 1, 7, 0, 0, h_eff), 1e-9);
+  EXPECT_LE(r.metrics.paths, static_cast<int>(12 / r.metrics.flat_strip_width) + 2);
+  EXPECT_EQ(r.metrics.unreachable_length, 0.0);
+}
+
+// The deepest the bull nose (R, rc) of each posted feed position goes into
+// the solid bounded by the cylinder of radius rho about the line x = 0,
+// z = zc along y (convex: the material inside it; concave: outside), within
+// |y - 4| < 4. The torus sampled as circles: at the angle phi up its
+// corner, the circle of radius R - rc + rc sin(phi), rc (1 - cos(phi)) up
+// the axis from the tip; and the flat bottom's rings.
+double cylinder_overcut(const FiveAxisResult& r, double R, double rc, double rho, double zc,
+                        bool convex) {
+  double worst = 0.0;
+  for (std::size_t q = 0; q < r.path.size(); ++q) {
+    if (r.path.kind[q] != static_cast<std::uint8_t>(MoveKind::Feed)) continue;
+    const gp_Vec a(r.i[q], r.j[q], r.k[q]);
+    gp_Vec e1 = a.Crossed(gp_Vec(0, 1, 0));
+    if (e1.Magnitude() < 1e-6) e1 = a.Crossed(gp_Vec(1, 0, 0));
+    e1.Normalize();
+    const gp_Vec e2 = a.Crossed(e1);
+    const gp_Pnt tip(r.path.x[q], r.path.y[q], r.path.z[q]);
+    auto probe = [&](double radius, double up) {
+      for (int k = 0; k < 180; ++k) {
+        const double th = 2 * M_PI * k / 180;
+        const gp_Pnt x = tip.Translated(a * up + (e1 * std::cos(th) + e2 * std::sin(th)) * radius);
+        if (std::abs(x.Y() - 4.0) >= 4.0) continue;
+        const double d = std::hypot(x.X(), x.Z() - zc);
+        worst = std::max(worst, convex ? rho - d : d - rho);
+      }
+    };
+    for (int k = 0; k <= 24; ++k) {
+      const double phi = 0.5 * M_PI * k / 24;
+      probe(R - rc + rc * std::sin(phi), rc * (1 - std::cos(phi)));
+    }
+    for (double f : {0.25, 0.5, 0.75}) probe(f * (R - rc), 0.0);
+  }
+  return worst;
+}
+
+TEST(FiveAxis, BullNoseStaysOffConvexAndConcaveCylinders) {
+  // Convex: the top of a cylinder of radius 20 (axis 18 below the origin);
+  // concave: the bottom of a trough of radius 15 (axis 15 above), its
+  // face reversed so that the normal points away from the material.
+  const gp_Ax3 low(gp_Pnt(0, 0, -18), gp_Dir(0, 1, 0), gp_Dir(1, 0, 0));
+  const gp_Ax3 high(gp_Pnt(0, 0, 15), gp_Dir(0, 1, 0), gp_Dir(1, 0, 0));
+  const TopoDS_Face convex =
+      BRepBuilderAPI_MakeFace(gp_Cylinder(low, 20), -M_PI / 2 - 0.4, -M_PI / 2 + 0.4, 0, 8).Face();
+  TopoDS_Face concave =
+      BRepBuilderAPI_MakeFace(gp_Cylinder(high, 15), M_PI / 2 - 0.5, M_PI / 2 + 0.5, 0, 8).Face();
+  concave.Reverse();
+  struct Case {
+    TopoDS_Face face;
+    double rho, zc;
+    bool convex;
+  } cases[] = {{convex, 20, -18, true}, {concave, 15, 15, false}};
+  for (const Case& c : cases) {
+    FiveAxisParams p;
+    p.corner_radius = 1.0;
+    p.scallop_height = 0.02;
+    p.direction = IsoDirection::U;  // passes along the axis, stepping round
+    const FiveAxisResult r = five_axis_finish(c.face, {0}, p);
+    EXPECT_GT(r.metrics.paths, 3) << c.convex;
+    EXPECT_LE(r.metrics.guaranteed_scallop, p.scallop_height + 1e-12) << c.convex;
+    EXPECT_EQ(r.metrics.unreachable_length, 0.0) << c.convex;
+    const double over = cylinder_overcut(r, 3, 1, c.rho, c.zc, c.convex);
+    EXPECT_LE(over, r.metrics.guaranteed_overcut) << c.convex;
+    // The strips: convex ground narrows them, concave widens them, against
+    // the plane's (the largest spacing measured between paths).
+    const double flat = 2 * strip_half_width(3, 1, 5, 0, 0, 0.02);
+    if (c.convex) {
+      EXPECT_LT(r.metrics.max_spacing, flat);
+    } else {
+      EXPECT_GT(r.metrics.max_spacing, flat);
+    }
+  }
+}
+
 void expect_refused(FiveAxisParams p, const std::string& name) {
   const TopoDS_Face face =
       BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 0, 5, 0, 5).Face();
@@ -170,7 +328,9 @@ TEST(FiveAxis, DegenerateFaceBesideAGoodOneIsSkipped) {
 
 TEST(FiveAxis, BadArgumentsAreNamed) {
   FiveAxisParams p;
-  p.corner_radius = 1.0;
+  p.corner_radius = 3.0;  // a ball: no flat bottom
+  expect_refused(p, "corner_radius");
+  p.corner_radius = -0.5;
   expect_refused(p, "corner_radius");
   p = {};
   p.lead_angle = 0.0;

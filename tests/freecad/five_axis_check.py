@@ -3,12 +3,17 @@ core and sharing nothing with it. A helper, not a test file.
 
 The program is read as LinuxCNC's interpreter runs it (``rs274 -g``: the
 STRAIGHT_TRAVERSE / STRAIGHT_FEED canonical calls with x y z a b c); the
-tool is a flat end of radius R and length L, the tip (x, y, z) the centre of
-its bottom face, its axis relative to the part (sin A sin C, -sin A cos C,
-cos A) as the op documents. Each feed move is swept as the machine with TCP
-moves: tip and A, C interpolated linearly, at steps of at most `step` mm
-of tip travel and `angle_step` degrees. Each tool instance is an oriented
-cylinder (the disc of the bottom and the shank above it).
+tool is a flat end of radius R and length L, or a bull nose of corner
+radius rc, the tip (x, y, z) the centre of its bottom face, its axis
+relative to the part (sin A sin C, -sin A cos C, cos A) as the op
+documents. Each feed move is swept as the machine with TCP moves: tip and
+A, C interpolated linearly, at steps of at most `step` mm of tip travel and
+`angle_step` degrees. Each tool instance is an oriented cylinder (the disc
+of the bottom and the shank above it); a bull nose's is the cylinder from
+rc up and, below, its corner: the solid torus (tube radius rc, its circle of
+centres of radius R - rc at rc above the tip) and the disc that fills it
+(a cylinder of radius R - rc, 2 rc high, from the tip), each line met
+exactly (the torus by the real roots of its quartic).
 
 The design surface is sampled from OpenCASCADE directly (the Part face's own
 surface and normal, inside its wires). At a sample S with normal N (away
@@ -137,12 +142,70 @@ def line_cylinder(s, n, tips, axes, radius, length):
     return np.where(miss, np.inf, t0), np.where(miss, -np.inf, t1)
 
 
-def measure(points, normals, tips, axes, radius, length, reach=None):
+def line_torus(s, n, centres, axes, major, minor):
+    """The interval [t0, t1] from the first to the last point where the lines
+    s + t n meet each solid torus (centre, axis, major and minor radius);
+    t0 = +inf where the line misses. With w = s + t n - centre, h = w.axis:
+    (|w|^2 + major^2 - minor^2)^2 = 4 major^2 (|w|^2 - h^2), a quartic in t
+    with leading coefficient 1 (n a unit vector), solved as the eigenvalues
+    of its companion matrices."""
+    w0 = s[None, :] - centres
+    b = w0 @ n
+    h0 = np.einsum("ij,ij->i", w0, axes)
+    na = axes @ n
+    ww = np.einsum("ij,ij->i", w0, w0)
+    c = ww + major * major - minor * minor
+    m4 = 4 * major * major
+    coeffs = np.stack(
+        [
+            4 * b,
+            4 * b * b + 2 * c - m4 * (1 - na * na),
+            4 * b * c - 2 * m4 * (b - h0 * na),
+            c * c - m4 * (ww - h0 * h0),
+        ],
+        axis=1,
+    )
+    comp = np.zeros((len(centres), 4, 4))
+    comp[:, 0, :] = -coeffs
+    comp[:, 1, 0] = comp[:, 2, 1] = comp[:, 3, 2] = 1.0
+    roots = np.linalg.eigvals(comp)
+    real = np.abs(roots.imag) <= 1e-6 * max(1.0, major + minor)
+    re = roots.real
+    t0 = np.min(np.where(real, re, np.inf), axis=1)
+    t1 = np.max(np.where(real, re, -np.inf), axis=1)
+    return t0, t1
+
+
+def tool_intervals(s, n, tips, axes, radius, length, corner):
+    """[t0, t1] of the lines s + t n in each tool instance, two per instance
+    for a bull nose (corner > 0: its corner and the cylinder above), one for
+    a flat end (t0 = +inf where a part is missed)."""
+    if corner <= 0:
+        return line_cylinder(s, n, tips, axes, radius, length)
+    core = radius - corner
+    u0, u1 = line_cylinder(s, n, tips + corner * axes, axes, radius, length - corner)
+    d0, d1 = line_cylinder(s, n, tips, axes, core, 2 * corner)
+    # The torus only where the line meets the corner's bounding cylinder
+    # (radius R, 2 rc high from the tip): the quartic costs most.
+    b0, b1 = line_cylinder(s, n, tips, axes, radius, 2 * corner)
+    k0, k1 = np.full(len(tips), np.inf), np.full(len(tips), -np.inf)
+    hit = b0 <= b1
+    if np.any(hit):
+        k0[hit], k1[hit] = line_torus(s, n, tips[hit] + corner * axes[hit], axes[hit], core, corner)
+    # The corner (the torus and its filling disc) is convex: one interval.
+    c0, c1 = np.minimum(d0, k0), np.maximum(d1, k1)
+    return np.concatenate([u0, c0]), np.concatenate([u1, c1])
+
+
+def measure(points, normals, tips, axes, radius, length, reach=None, corner=0.0):
     """Per sample: (left, overcut) as the module docstring says; left is
     +inf where no tool instance's tip passes within `reach` (default R +
     1.5 mm: the cutting end, whose bottom cuts at most a strip's half-width
     (under 1.5 mm here) from the contact, and the first few mm of its side;
-    the shank higher up is not swept here)."""
+    the shank higher up is not swept here). `corner`: the bull nose's
+    corner radius (0: a flat end)."""
+    if not 0 <= corner < radius:
+        raise ValueError("corner must be in [0, radius) (got %g)" % corner)
     reach = radius + 1.5 if reach is None else reach
     cell = reach
     left = np.full(len(points), np.inf)
@@ -170,7 +233,7 @@ def measure(points, normals, tips, axes, radius, length, reach=None):
             near = np.linalg.norm(ct - s, axis=1) <= reach
             if not np.any(near):
                 continue
-            t0, t1 = line_cylinder(s, n, ct[near], ca[near], radius, length)
+            t0, t1 = tool_intervals(s, n, ct[near], ca[near], radius, length, corner)
             hit = t1 >= 0
             if np.any(hit):
                 left[k] = max(0.0, float(np.min(t0[hit])))

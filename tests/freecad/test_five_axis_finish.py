@@ -131,15 +131,22 @@ class FiveAxisFinishTest(unittest.TestCase):
         ngc = os.path.join(tmp, "five.ngc")
         gcode = scripting.post_job(built.job, ngc)
         rs274 = support.rs274_or_fail(self)
-        run = scripting.run_rs274(ngc, {built.flat.ToolNumber: 6.0}, rs274=rs274)
+        tools = {tc.ToolNumber: 6.0 for tc in built.job.Tools.Group}
+        run = scripting.run_rs274(ngc, tools, rs274=rs274)
         self.assertTrue(run.ok, "rs274 refused the program: %s" % run.errors[:5])
         return gcode, check.motions(run.canon)
 
-    def run_case(self, name, shape, pick, **props):
+    def run_case(self, name, shape, pick, corner=0.0, **props):
+        """The op on the picked face with the 6 mm flat end, or (corner > 0)
+        a 6 mm bull nose of that corner radius; measured from outside."""
         built = Built(name, shape)
         self.addCleanup(built.close)
         face_no = pick(built.clone.Shape)
-        op = built.op([face_no], **props)
+        tc = None
+        if corner > 0:
+            tc = scripting.make_bull_nose_tool_controller(built.job, 6.0, corner)
+            built.doc.recompute()
+        op = built.op([face_no], tc=tc, **props)
         self.assertNotIn("Invalid", op.State, op.getStatusString())
         gcode, moves = self.post_and_read(built, op)
         # The convention is stated in the posted program.
@@ -157,9 +164,9 @@ class FiveAxisFinishTest(unittest.TestCase):
         tips, axes = check.tool_instances(moves, step=STEP)
         face = built.clone.Shape.Faces[face_no - 1]
         pts, nrm = check.sample_face(face, SPACING, 0.5)
-        left, _ = check.measure(pts, nrm, tips, axes, 3.0, op.ToolLength.Value)
+        left, _ = check.measure(pts, nrm, tips, axes, 3.0, op.ToolLength.Value, corner=corner)
         pts0, nrm0 = check.sample_face(face, OVER_SPACING, 0.0)
-        _, over = check.measure(pts0, nrm0, tips, axes, 3.0, op.ToolLength.Value)
+        _, over = check.measure(pts0, nrm0, tips, axes, 3.0, op.ToolLength.Value, corner=corner)
         reached = left[left < math.inf]
         print(
             "%s: %d samples, %d reached; left max %.5f (guaranteed %.5f), overcut max %.5f "

@@ -99,7 +99,9 @@ class FiveAxis(unittest.TestCase):
         before = gui.snapshot(self.doc)
         op, page = self.run_command(self.ball_tc, (self.clone, self.top))
         self.assertIs(op.ToolController, self.ball_tc)
-        self.assertTrue(any("needs a flat-end tool" in m for m in page.messages), page.messages)
+        self.assertTrue(
+            any("needs a flat-end or bull-nose tool" in m for m in page.messages), page.messages
+        )
         self.assertTrue(any(self.ball_tc.Label in m for m in page.messages), page.messages)
         gui.screenshot("five-axis-ball-end-panel")
         self.close_panel(QtGui.QDialogButtonBox.Cancel)

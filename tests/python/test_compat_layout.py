@@ -324,12 +324,28 @@ class OperationsTable(unittest.TestCase):
             self.assertEqual(len(messages), 1, (kwargs, messages))
             self.assertIn(reason, messages[0])
 
-    def test_five_axis_row_wants_a_flat_end(self):
+    def test_five_axis_row_wants_a_flat_end_or_bull_nose(self):
         five = self.ops.spec_named("FiveAxisStripFinish")
         self.assertEqual(self.ops.check(five, self.inputs(shape="endmill.fcstd")), [])
+        self.assertEqual(self.ops.check(five, self.inputs(shape="bullnose.fcstd")), [])
         messages = self.ops.check(five, self.inputs(shape="ballend.fcstd"))
         self.assertEqual(len(messages), 1, messages)
-        self.assertIn("needs a flat-end tool", messages[0])
+        self.assertIn("needs a flat-end or bull-nose tool", messages[0])
+
+    def test_corner_radius_of_each_tool(self):
+        compat = importlib.import_module("freecad_ext.compat")
+        flat, bull, ball = (
+            _Tool(f, 6.0, "bit") for f in ("endmill.fcstd", "bullnose.fcstd", "ballend.fcstd")
+        )
+        bull.FlatRadius = 2.0  # FreeCAD's bullnose.fcstd: the flat bottom's radius
+        self.assertEqual(compat.corner_radius(flat), 0.0)
+        self.assertEqual(compat.corner_radius(bull), 1.0)
+        self.assertTrue(compat.is_flat_bottomed(bull) and compat.is_flat_bottomed(flat))
+        self.assertFalse(compat.is_flat_bottomed(ball))
+        del bull.FlatRadius
+        self.assertIsNone(compat.corner_radius(bull))  # unknown: the op says so
+        bull.CornerRadius = 0.5  # a tool that gives it directly
+        self.assertEqual(compat.corner_radius(bull), 0.5)
 
     def test_no_tool_controller(self):
         inputs = self.ops.Inputs({"ScallopHeight": 0.01}, None, [("M", "Face1")])

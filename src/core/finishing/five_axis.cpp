@@ -42,8 +42,10 @@ void require(bool ok, const std::string& name, double v, const std::string& rule
 void validate(const FiveAxisParams& p) {
   require(std::isfinite(p.tool_radius) && p.tool_radius > 0, "tool_radius", p.tool_radius,
           "> 0 mm");
-  require(p.corner_radius == 0.0, "corner_radius", p.corner_radius,
-          "0 (a flat end; bull-nose tools are not supported yet)");
+  require(std::isfinite(p.corner_radius) && p.corner_radius >= 0 && p.corner_radius < p.tool_radius,
+          "corner_radius", p.corner_radius,
+          ">= 0 and < tool_radius mm (0: a flat end; a ball end, corner_radius = tool_radius, "
+          "has no flat bottom to tilt)");
   require(std::isfinite(p.tool_length) && p.tool_length > p.tool_radius, "tool_length",
           p.tool_length, "> tool_radius");
   require(p.lead_angle > 0 && p.lead_angle < 60, "lead_angle", p.lead_angle,
@@ -90,20 +92,18 @@ struct Face {
 struct Job {
   const FiveAxisParams& p;
   Budget b;
+  Cutter tool;                                        // tool_radius and corner_radius
   double h_eff = 0;                                   // the cusp the strips are spaced for
   double lead = 0, max_lead = 0, tilt = 0, step = 0;  // radians
   double flat_width = 0;                              // strip width on flat ground at the lead
   const ClearanceModel* model = nullptr;
   double shank_clear = 0;  // the query distance of the shank capsule
 
-  double lead_at(double kf, double ka) const {
-    return lead_for(lead, max_lead, p.tool_radius, kf, ka);
-  }
+  double lead_at(double kf, double ka) const { return lead_for(lead, max_lead, tool, kf, ka); }
   // The edge at a frame with the lead the job uses there.
   EdgeProfile edge(const StripFrame& f) const {
     const ContactFrame c{f.p, f.normal, f.feed, f.across};
-    return EdgeProfile(c, p.tool_radius, lead_at(f.kappa_feed, f.kappa_across), tilt,
-                       f.kappa_across);
+    return EdgeProfile(c, tool, lead_at(f.kappa_feed, f.kappa_across), tilt, f.kappa_across);
   }
   double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
   bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis, double extra = 0.0) const {
@@ -352,8 +352,7 @@ class Poser {
     return transposed_ ? trim_.contains(q.v, q.u) : trim_.contains(q.u, q.v);
   }
   double depth(const Posed& x) const {
-    return disc_depth(g_, x.uv, x.pose, job_.p.tool_radius,
-                      [this](const ParamPt& q) { return inside(q); });
+    return tool_depth(g_, x.uv, x.pose, job_.tool, [this](const ParamPt& q) { return inside(q); });
   }
   bool a_reachable(const gp_Vec& axis) const {
     const double A = std::acos(std::clamp(axis.Z(), -1.0, 1.0)) / kDegree;
@@ -368,12 +367,12 @@ class Poser {
     x->uv = uv;
     x->lead = job_.lead_at(kf, ka);
     x->raised = x->lead > job_.lead + 1e-9;
-    x->pose = pose_at(c, job_.p.tool_radius, x->lead, job_.tilt);
-    // The exact check: raise the lead in 2 degree steps while the disc digs in.
+    x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
+    // The exact check: raise the lead in 2 degree steps while the end digs in.
     while (depth(*x) > job_.p.gouge_tolerance && x->lead < job_.max_lead) {
       x->lead = std::min(job_.max_lead, x->lead + 2 * kDegree);
       x->raised = true;
-      x->pose = pose_at(c, job_.p.tool_radius, x->lead, job_.tilt);
+      x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
     }
     return true;
   }
@@ -476,7 +475,8 @@ void check_faces(const std::vector<int>& faces, std::size_t count) {
 Budget make_budget(const FiveAxisParams& p) {
   Budget b;
   b.posted = 0.5 * std::sqrt(3.0) * p.posted_resolution;
-  b.axis = p.tool_radius * kAxisDeviation;
+  // The cutting end's points are within sqrt(R^2 + rc^2) of the tip.
+  b.axis = std::hypot(p.tool_radius, p.corner_radius) * kAxisDeviation;
   b.chord = p.chord_tolerance > 0 ? p.chord_tolerance : (p.scallop_height - b.posted - b.axis) / 4;
   if (!(p.scallop_height - b.error() > 0))
     throw InvalidArgument(
@@ -569,7 +569,7 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   const double extent = std::sqrt(box.SquareExtent());
   check_tolerance_ratio("scallop_height", p.scallop_height, extent);
 
-  Job job{p, make_budget(p)};
+  Job job{p, make_budget(p), Cutter{p.tool_radius, p.corner_radius}};
   job.h_eff = p.scallop_height - job.b.error();
   job.lead = p.lead_angle * kDegree;
   job.max_lead = p.max_lead_angle * kDegree;
@@ -577,8 +577,7 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   job.step = p.max_axis_step * kDegree;
   {
     const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
-    job.flat_width =
-        2 * EdgeProfile(flat, p.tool_radius, job.lead, job.tilt, 0.0).half_width(job.h_eff);
+    job.flat_width = 2 * EdgeProfile(flat, job.tool, job.lead, job.tilt, 0.0).half_width(job.h_eff);
   }
   check_budget(all, faces, job);
   FiveAxisResult result;
@@ -652,16 +651,15 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
     m.lead_raised_points += posed.raised;
     m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
     if (posed.raised > 0)
-      result.warnings.push_back(
-          face_label(face.index) + ": the lead was raised above " + num(p.lead_angle) +
-          " deg (up to " + num(posed.max_lead / kDegree) + " deg) at " +
-          std::to_string(posed.raised) +
-          " positions to keep the flat bottom off concave ground (rear gouge); "
-          "the strips there are narrower");
+      result.warnings.push_back(face_label(face.index) + ": the lead was raised above " +
+                                num(p.lead_angle) + " deg (up to " + num(posed.max_lead / kDegree) +
+                                " deg) at " + std::to_string(posed.raised) +
+                                " positions to keep the bottom off concave ground (rear gouge); "
+                                "the strips there are narrower");
     if (posed.gouge_left + posed.shank_left + posed.range_left > 0)
       result.warnings.push_back(
           face_label(face.index) + ": positions left out: " + std::to_string(posed.gouge_left) +
-          " where the disc would gouge even at " + num(p.max_lead_angle) + " deg lead, " +
+          " where the cutting end would gouge even at " + num(p.max_lead_angle) + " deg lead, " +
           std::to_string(posed.shank_left) + " where the shank meets the model, " +
           std::to_string(posed.range_left) + " where A would leave [" + num(p.a_min) + ", " +
           num(p.a_max) + "] deg");
@@ -746,15 +744,24 @@ void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
   }
 }
 
+double strip_half_width(double radius, double corner_radius, double lead_deg, double tilt_deg,
+                        double kappa_across, double h) {
+  if (!(radius > 0) || !(corner_radius >= 0 && corner_radius < radius) || !(h > 0) ||
+      !(lead_deg > 0 && lead_deg < 90) || !(std::abs(tilt_deg) < 90))
+    throw InvalidArgument(
+        "strip_half_width: radius > 0, 0 <= corner_radius < radius, h > 0, 0 < lead < 90, "
+        "|tilt| < 90 (got " +
+        num(radius) + ", " + num(corner_radius) + ", " + num(h) + ", " + num(lead_deg) + ", " +
+        num(tilt_deg) + ")");
+  const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
+  return EdgeProfile(flat, Cutter{radius, corner_radius}, lead_deg * kDegree, tilt_deg * kDegree,
+                     kappa_across)
+      .half_width(h);
+}
+
 double flat_end_half_width(double radius, double lead_deg, double tilt_deg, double kappa_across,
                            double h) {
-  if (!(radius > 0) || !(h > 0) || !(lead_deg > 0 && lead_deg < 90) || !(std::abs(tilt_deg) < 90))
-    throw InvalidArgument(
-        "flat_end_half_width: radius > 0, h > 0, 0 < lead < 90, |tilt| < 90 (got " + num(radius) +
-        ", " + num(h) + ", " + num(lead_deg) + ", " + num(tilt_deg) + ")");
-  const ContactFrame flat{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1), gp_Vec(1, 0, 0), gp_Vec(0, 1, 0)};
-  return EdgeProfile(flat, radius, lead_deg * kDegree, tilt_deg * kDegree, kappa_across)
-      .half_width(h);
+  return strip_half_width(radius, 0.0, lead_deg, tilt_deg, kappa_across, h);
 }
 
 }  // namespace isocam

@@ -1,4 +1,4 @@
-// The tilted flat end (see five_axis_tool.h and isocam/five_axis.h).
+// The tilted flat end and bull nose (see five_axis_tool.h and isocam/five_axis.h).
 #include "finishing/five_axis_tool.h"
 
 #include <algorithm>
@@ -26,55 +26,107 @@ double ground(double kappa, double x) {
 
 }  // namespace
 
-ToolPose pose_at(const ContactFrame& c, double radius, double lead, double tilt) {
+ToolPose pose_at(const ContactFrame& c, const Cutter& tool, double lead, double tilt) {
   ToolPose out;
   out.axis = unit_or(c.n * (std::cos(lead) * std::cos(tilt)) + c.f * std::sin(lead) +
                          c.a * (std::cos(lead) * std::sin(tilt)),
                      c.n);
   const gp_Vec up = unit_or(c.n - out.axis * c.n.Dot(out.axis), -c.f);
-  out.tip = c.p.Translated(up * radius);
+  out.tip = c.p.Translated(c.n * tool.corner + up * tool.core() - out.axis * tool.corner);
   return out;
 }
 
-// The rim relative to P: R ((1 + cos th) u + sin th e2), u the unit vector
-// from the contact to the tip, e2 = axis x u; across the feed x(th) = x0 +
-// m cos(th - phi), along N z(th) = z0 + s cos th + t sin th.
-EdgeProfile::EdgeProfile(const ContactFrame& c, double radius, double lead, double tilt,
+// The core disc's rim relative to P: rc N + R' ((1 + cos th) u + sin th
+// e2), R' = R - rc, u the unit vector from its lowest rim point to its
+// centre, e2 = axis x u; across the feed x(th) = x0 + m cos(th - phi), along
+// N z(th) = z0 + s cos th + t sin th (z0 = rc + s).
+EdgeProfile::EdgeProfile(const ContactFrame& c, const Cutter& tool, double lead, double tilt,
                          double kappa_a)
-    : kappa_(kappa_a) {
-  const ToolPose pose = pose_at(c, radius, lead, tilt);
-  const gp_Vec u = gp_Vec(c.p, pose.tip) / radius;
+    : kappa_(kappa_a), rc_(tool.corner) {
+  const ToolPose pose = pose_at(c, tool, lead, tilt);
+  const gp_Vec u = unit_or(c.n - pose.axis * c.n.Dot(pose.axis), -c.f);
   const gp_Vec e2 = pose.axis.Crossed(u);
-  const double p = radius * u.Dot(c.a), q = radius * e2.Dot(c.a);
+  const double r = tool.core();
+  const double p = r * u.Dot(c.a), q = r * e2.Dot(c.a);
   x0_ = p;
   m_ = std::hypot(p, q);
   phi_ = std::atan2(q, p);
-  z0_ = radius * u.Dot(c.n);
-  s_ = z0_;
-  t_ = radius * e2.Dot(c.n);
+  s_ = r * u.Dot(c.n);
+  z0_ = rc_ + s_;
+  t_ = r * e2.Dot(c.n);
+  ux_ = p;
+  vx_ = q;
+}
+
+// The flat end (rc = 0): the lower arc of the ellipse in closed form. The
+// bull nose: the ellipse's outer parallel curve at rc, its point of outward
+// normal n = (sin psi, -cos psi) being the ellipse's support point for n
+// plus rc n; its x grows strictly with psi over [-pi/2, pi/2] (left end to
+// right end of the lower arc), so psi is found by Newton's method inside a
+// bracket.
+double EdgeProfile::edge(double x, double* psi) const {
+  if (rc_ == 0.0) {
+    if (!(m_ > 0)) return kInf;
+    const double w = std::acos(std::clamp((x - x0_) / m_, -1.0, 1.0));
+    double z = kInf;
+    for (double th : {phi_ + w, phi_ - w})
+      z = std::min(z, z0_ + s_ * std::cos(th) + t_ * std::sin(th));
+    return z;
+  }
+  // The ellipse c0 + U cos th + V sin th, U = (ux, s), V = (vx, t): x(psi) -
+  // x, its derivative in *dx and the point's z in *z.
+  auto at = [this, x](double p, double* dx, double* z) {
+    const double nx = std::sin(p), nz = -std::cos(p);
+    const double a = ux_ * nx + s_ * nz, b = vx_ * nx + t_ * nz, l = std::sqrt(a * a + b * b);
+    if (!(l > 0)) {
+      *dx = -rc_ * nz;
+      *z = z0_ + rc_ * nz;
+      return x0_ + rc_ * nx - x;
+    }
+    const double da = -ux_ * nz + s_ * nx, db = -vx_ * nz + t_ * nx;  // d/dpsi of a, b
+    const double dl = (a * da + b * db) / l;
+    *z = z0_ + (s_ * a + t_ * b) / l + rc_ * nz;
+    *dx = (ux_ * da + vx_ * db) / l - (ux_ * a + vx_ * b) * dl / (l * l) - rc_ * nz;
+    return x0_ + (ux_ * a + vx_ * b) / l + rc_ * nx - x;
+  };
+  // Newton's method from *psi kept inside a bracket (bisection where it
+  // would leave it), to 1e-12 mm in x.
+  double lo = -0.5 * M_PI, hi = 0.5 * M_PI, p = std::clamp(*psi, lo, hi), dx = 0.0, z = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    const double f = at(p, &dx, &z);
+    if (std::abs(f) <= 1e-12 || hi - lo < 1e-15) break;
+    (f < 0 ? lo : hi) = p;
+    const double next = dx > 0 ? p - f / dx : lo - 1.0;
+    p = next > lo && next < hi ? next : 0.5 * (lo + hi);
+  }
+  *psi = p;
+  return z;
 }
 
 double EdgeProfile::height(double x) const {
-  if (!(m_ > 0) || x < x_min() || x > x_max()) return kInf;
-  const double w = std::acos(std::clamp((x - x0_) / m_, -1.0, 1.0));
-  double z = kInf;
-  for (double th : {phi_ + w, phi_ - w})
-    z = std::min(z, z0_ + s_ * std::cos(th) + t_ * std::sin(th));
-  return z - ground(kappa_, x);
+  double psi = 0.0;
+  return height(x, &psi);
 }
 
+double EdgeProfile::height(double x, double* psi) const {
+  if (x < x_min() || x > x_max()) return kInf;
+  return edge(x, psi) - ground(kappa_, x);
+}
+
+// The scan and bisection start each solve of the edge's normal angle from
+// the previous one (a near x).
 double EdgeProfile::side_width(double h, double sign) const {
   const double reach = sign > 0 ? x_max() : -x_min();
   if (!(reach > 0)) return 0.0;
   const int n = 96;
-  double lo = 0.0;
+  double lo = 0.0, psi = 0.0;
   for (int k = 1; k <= n; ++k) {
     const double x = reach * k / n;
-    if (height(sign * x) >= h) {
+    if (height(sign * x, &psi) >= h) {
       double hi = x;
       for (int it = 0; it < 50; ++it) {
         const double mid = 0.5 * (lo + hi);
-        (height(sign * mid) >= h ? hi : lo) = mid;
+        (height(sign * mid, &psi) >= h ? hi : lo) = mid;
       }
       return lo;
     }
@@ -93,15 +145,21 @@ double EdgeProfile::cusp(double spacing) const {
 }
 
 double EdgeProfile::lowest() const {
-  double low = kInf;
+  double low = kInf, psi = -0.5 * M_PI;
   for (int k = 0; k <= 200; ++k)
-    low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0));
+    low = std::min(low, height(x_min() + (x_max() - x_min()) * k / 200.0, &psi));
   return low;
 }
 
-double lead_for(double base, double max_lead, double radius, double kappa_f, double kappa_a) {
-  const double ka = 1.25 * std::max(0.0, -kappa_a) * radius;
-  const double kf = 1.25 * std::max(0.0, -kappa_f) * radius;
+double lead_for(double base, double max_lead, const Cutter& tool, double kappa_f, double kappa_a) {
+  // The concave part of kappa with the margin, on the ground offset by rc;
+  // -1 where the corner does not fit (no lead keeps it off).
+  auto offset = [&tool](double kappa) {
+    const double k = 1.25 * std::min(0.0, kappa), d = 1.0 + tool.corner * k;
+    return d > 0 ? -k / d * tool.core() : -1.0;
+  };
+  const double ka = offset(kappa_a), kf = offset(kappa_f);
+  if (ka < 0 || kf < 0) return max_lead;
   auto ok = [&](double l) {
     const double c = std::cos(l);
     return std::sin(l) >= ka && std::sin(l) >= kf * c * c;

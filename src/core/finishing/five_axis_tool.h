@@ -1,7 +1,26 @@
-// Internal: the tilted flat end of isocam/five_axis.h: its orientation at a
-// contact point, its lower edge seen along the feed (Lee 1998, section 2),
-// the strip half-width, the lead that keeps the disc off concave ground to
-// second order, and the exact check of the disc against the face.
+// Internal: the tilted flat end and bull nose of isocam/five_axis.h: the
+// orientation at a contact point, the lower edge seen along the feed (Lee
+// 1998, section 2), the strip half-width, the lead that keeps the bottom off
+// concave ground to second order, and the exact check of the cutting end
+// against the face.
+//
+// The bull nose as a Minkowski sum. Below the height rc along the axis the
+// tool of radius R and corner radius rc is exactly the set of points within
+// rc of its CORE DISC: the disc of radius R - rc centred on the axis at rc
+// above the tip (the corner circles' centres fill its rim; the flat bottom
+// is the core disc lowered by rc). So every question about the bull nose is
+// the flat end's question about the core disc, then offset by rc:
+//   * contact: the core disc's lowest rim point (along N) is at P + rc N;
+//   * the edge seen along the feed: a projection maps a Minkowski sum to the
+//     sum of the projections, so the tool's silhouette in the plane across
+//     the feed is EXACTLY the core disc's ellipse offset by rc (its outer
+//     parallel curve), not a first-order approximation (EdgeProfile);
+//   * the gouge: a point of the core disc at signed height d above the face
+//     digs in by rc - d (tool_depth).
+// rc = 0 is the flat end, rc = R would be the ball of radius R (refused:
+// no flat bottom to tilt). Above rc the tool is the cylinder of radius R,
+// which contains the rest of the Minkowski sum; its side is not part of
+// the edge (conservative for the strip: it could only cut more).
 #pragma once
 
 #include <gp_Pnt.hxx>
@@ -13,6 +32,12 @@
 namespace isocam {
 
 constexpr double kDegree = 0.017453292519943295;
+
+// The cutting end: radius R and corner radius rc (0 <= rc < R).
+struct Cutter {
+  double radius = 0, corner = 0;
+  double core() const { return radius - corner; }  // the core disc's radius
+};
 
 // A tool position: the tip (centre of the bottom face) and the unit axis.
 struct ToolPose {
@@ -27,19 +52,26 @@ struct ContactFrame {
 };
 
 // The axis tilted by `lead` towards F and `tilt` towards A (radians), and
-// the tip that puts the disc's lowest rim point (along N) on P.
-ToolPose pose_at(const ContactFrame& c, double radius, double lead, double tilt);
+// the tip that puts the tool's lowest point (along N) on P: the core disc's
+// lowest rim point at P + rc N, the tip rc below the core disc's centre.
+ToolPose pose_at(const ContactFrame& c, const Cutter& tool, double lead, double tilt);
 
 // The height D(x) of the tool's lower edge above the ground at the offset
 // x across the feed (the ground the circle of curvature kappa_a, convex >
-// 0), for the pose's orientation relative to the frame. `reach` receives
-// the edge's extent on each side (x_min < 0 < x_max).
+// 0), for the pose's orientation relative to the frame; x_min() < 0 <
+// x_max() its extent. The edge is exact for the tool moving along F (the
+// core disc's projected rim, an ellipse, offset by rc: solved for the
+// outward normal's angle by Newton's method); what is approximated is the
+// flat end's too:
+// the ground is its circle of curvature across the feed, the feed is taken
+// straight and the orientation constant, and D is the gap along N, at
+// least the true distance to the circle (so the width is not over-estimated).
 class EdgeProfile {
  public:
-  EdgeProfile(const ContactFrame& c, double radius, double lead, double tilt, double kappa_a);
+  EdgeProfile(const ContactFrame& c, const Cutter& tool, double lead, double tilt, double kappa_a);
   double height(double x) const;  // +inf outside the reach
-  double x_min() const { return x0_ - m_; }
-  double x_max() const { return x0_ + m_; }
+  double x_min() const { return x0_ - m_ - rc_; }
+  double x_max() const { return x0_ + m_ + rc_; }
   // The smaller side's half-width within h (its reach if it stays within h).
   double half_width(double h) const;
   // The cusp of two such edges `spacing` apart: D(spacing / 2) on the
@@ -51,25 +83,34 @@ class EdgeProfile {
 
  private:
   double side_width(double h, double sign) const;
-  double x0_, m_, phi_, z0_, s_, t_, kappa_;
+  // height() and the tool's lowest point at x above the tangent line, the
+  // bull nose's edge solved for its normal angle from *psi (then its value).
+  double height(double x, double* psi) const;
+  double edge(double x, double* psi) const;
+  double x0_, m_, phi_, z0_, s_, t_, kappa_, rc_;
+  double ux_ = 0, vx_ = 0;  // the rim's x = x0 + ux cos th + vx sin th
 };
 
-// The smallest lead >= base (radians, at most max_lead) that keeps the disc
-// off the ground to second order with a 25% curvature margin:
-// -kappa_a R <= sin l and -kappa_f R cos^2 l <= sin l (five_axis.h).
-double lead_for(double base, double max_lead, double radius, double kappa_f, double kappa_a);
+// The smallest lead >= base (radians, at most max_lead) that keeps the core
+// disc off the ground offset by rc to second order: -k_a (R - rc) <= sin l
+// and -k_f (R - rc) cos^2 l <= sin l with k = 1.25 kappa / (1 + 1.25 rc
+// kappa) on concave ground (the offset's normal curvature, exact along the
+// principal directions, with a 25% margin; five_axis.h); max_lead where
+// the corner does not fit (1 + 1.25 rc kappa <= 0: no lead helps).
+double lead_for(double base, double max_lead, const Cutter& tool, double kappa_f, double kappa_a);
 
 // The frame at uv of the grid with the feed along `dir` (its tangential
 // part); false where the normal or the feed is degenerate.
 bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, ContactFrame* out);
 
-// The most the disc of the pose goes below the surface of `g` near uv (a
-// positive depth, 0 if it stays above): samples of the rim (48) and two
-// inner rings, each against its nearest surface point found by Newton's
-// method from uv; points whose nearest point is on the grid's boundary (the
-// disc overhangs the untrimmed surface) or outside `inside` do not count.
+// The most the cutting end of the pose goes below the surface of `g` near
+// uv (a positive depth, 0 if it stays above): samples of the core disc's
+// rim (48) and two inner rings, each against its nearest surface point
+// found by Newton's method from uv, digging in by rc - (its signed height);
+// points whose nearest point is on the grid's boundary (the tool overhangs
+// the untrimmed surface) or outside `inside` do not count.
 template <class Inside>
-double disc_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, double radius,
+double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside);
 
 // Nearest point of g to x by Newton from uv; false if it ends on the
@@ -77,7 +118,7 @@ double disc_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, d
 bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot);
 
 template <class Inside>
-double disc_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, double radius,
+double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside) {
   gp_Vec e1 = pose.axis.Crossed(gp_Vec(0, 0, 1));
   if (e1.Magnitude() < 1e-6) e1 = pose.axis.Crossed(gp_Vec(1, 0, 0));
@@ -92,12 +133,13 @@ double disc_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, d
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
       const gp_Pnt x =
-          pose.tip.Translated((e1 * std::cos(th) + e2 * std::sin(th)) * (radius * ring.r));
+          pose.tip.Translated(pose.axis * tool.corner +
+                              (e1 * std::cos(th) + e2 * std::sin(th)) * (tool.core() * ring.r));
       ParamPt foot;
       if (!nearest_on(g, x, uv, &foot) || !inside(foot)) continue;
       const SurfaceDerivs d = g.d1(foot.u, foot.v);
       const double hgt = gp_Vec(d.p, x).Dot(g.normal(foot.u, foot.v, &d));
-      depth = std::max(depth, -hgt);
+      depth = std::max(depth, tool.corner - hgt);
     }
   return depth;
 }

@@ -1,11 +1,28 @@
-// 5-axis strip finishing with a tilted flat-end tool: non-isoparametric
+// 5-axis strip finishing with a tilted flat-end or bull-nose tool: non-isoparametric
 // passes placed by the machining strip width, after Y.S. Lee, "Non-
 // isoparametric tool path planning by machining strip evaluation for 5-axis
 // sculptured surface machining" (CAD 30(7), 1998), sections 2-5.
 //
 // The tool. A flat end of radius R: a cylinder whose bottom face is a disc
-// of radius R. The posted point is the TOOL TIP = THE CENTRE OF THE BOTTOM
-// FACE; the tool axis is the unit vector from the tip up the shank.
+// of radius R; or a bull nose of radius R and corner radius rc (0 < rc < R):
+// a cylinder whose bottom face, a disc of radius R - rc, meets its side in
+// a quarter torus (tube radius rc). The posted point is the TOOL TIP = THE
+// CENTRE OF THE BOTTOM FACE; the tool axis is the unit vector from the tip
+// up the shank.
+//
+// The bull nose is treated as the flat end of its CORE DISC (radius R -
+// rc, centred on the axis rc above the tip) grown by rc: below the height
+// rc the tool is exactly the set of points within rc of the core disc.
+// Everything below holds for it with R replaced by R - rc and the ground by
+// its offset by rc (finishing/five_axis_tool.h says what is exact): the
+// tip is P + rc N + (R - rc) unit(N - (N.axis) axis) - rc axis; the lower
+// edge seen along the feed is the core disc's ellipse offset by rc (exact:
+// the silhouette of a Minkowski sum), wider at the bottom than the ellipse
+// alone and than a ball of radius rc; the rear-gouge conditions hold for
+// the core disc against the ground offset by rc (normal curvature kappa /
+// (1 + rc kappa)), and where the corner does not fit the concave ground
+// (rc kappa <= -0.8, margin included) no lead helps; the exact check digs
+// balls of radius rc centred on the core disc's samples into the face.
 //
 // The orientation (Lee's section 2). At a contact point P with unit normal
 // N (away from the material), feed direction F (unit, tangent) and across
@@ -72,7 +89,8 @@
 // exact tip, and the axis the machine interpolates at the middle is within
 // 2e-4 rad of the exact one (near A = 0, where C turns fast, this inserts
 // positions; a pass over the pole turns C there at a nearly vertical axis),
-// so the tool rim is within e = c + p + 2e-4 R of an exact position (checked
+// so the cutting end is within e = c + p + 2e-4 sqrt(R^2 + rc^2) of an
+// exact position (its points are within that distance of the tip; checked
 // at the midpoints, not bounded between them). The strips are spaced for
 // h' = h - e, so
 //   guaranteed_scallop = e + max over adjacent pairs of D(c_pair / 2) <= h,
@@ -95,7 +113,7 @@ namespace isocam {
 
 struct FiveAxisParams {
   double tool_radius = 3.0;          // mm, R > 0 (a 6 mm flat end)
-  double corner_radius = 0.0;        // mm; only 0 (flat end) is supported yet
+  double corner_radius = 0.0;        // mm, 0 <= rc < R: 0 a flat end, > 0 a bull nose
   double tool_length = 30.0;         // mm above the tip that must stay clear (> R)
   double lead_angle = 5.0;           // degrees, 0 < lead < 60
   double tilt_angle = 0.0;           // degrees, |tilt| < 45
@@ -156,9 +174,13 @@ void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
                 const std::vector<double>& k, double a_min, double a_max, std::vector<double>* a,
                 std::vector<double>* c, std::vector<char>* ok);
 
-// The strip half-width x_h (mm) of the tilted flat end on ground of normal
-// curvature kappa_across (convex > 0) for the scallop h, lead and tilt in
-// degrees (the smaller side); R if the edge stays within h up to its reach.
+// The strip half-width x_h (mm) of the tilted flat end (corner_radius 0) or
+// bull nose on ground of normal curvature kappa_across (convex > 0) for the
+// scallop h, lead and tilt in degrees (the smaller side); the edge's reach
+// (R on flat ground without tilt) if it stays within h up to there.
+double strip_half_width(double radius, double corner_radius, double lead_deg, double tilt_deg,
+                        double kappa_across, double h);
+// strip_half_width with corner_radius 0.
 double flat_end_half_width(double radius, double lead_deg, double tilt_deg, double kappa_across,
                            double h);
 
