@@ -412,10 +412,10 @@ def is_flat_bottomed(tool):
 
 def corner_radius(tool):
     """The corner radius (mm) of a flat end (0) or bull nose, or None if the
-    tool says nothing of it. FreeCAD's bull-nose ToolBit (0.20, 1.0 and 1.1)
+    tool says nothing of it. FreeCAD's bull-nose ToolBit of 0.20 and 1.0
     gives FlatRadius, the radius of its flat bottom: the corner radius is
-    Diameter / 2 - FlatRadius; a tool with a CornerRadius property (legacy
-    Path.Tool) gives it directly."""
+    Diameter / 2 - FlatRadius; 1.1's Bullnose shape (and a legacy Path.Tool)
+    gives CornerRadius directly (1.1 drops FlatRadius from it)."""
     if is_flat_end(tool) and not is_bull_nose(tool):
         legacy = getattr(tool, "CornerRadius", None)
         return float(legacy) if legacy is not None else 0.0
@@ -426,6 +426,21 @@ def corner_radius(tool):
     if flat is None:
         return None
     return float(tool.Diameter) / 2.0 - float(flat)
+
+
+def corner_radius_property(tool):
+    """The name of the property that sets `tool`'s corner: CornerRadius
+    where it has one (FreeCAD 1.1's Bullnose), else FlatRadius (0.20, 1.0)."""
+    return "CornerRadius" if hasattr(tool, "CornerRadius") else "FlatRadius"
+
+
+def set_corner_radius(tool, corner):
+    """Give the bull-nose `tool` the corner radius `corner` (mm), in the
+    property this FreeCAD's shape has (corner_radius_property())."""
+    if corner_radius_property(tool) == "CornerRadius":
+        tool.CornerRadius = corner
+    else:
+        tool.FlatRadius = float(tool.Diameter) / 2.0 - corner
 
 
 def tool_label(tool):

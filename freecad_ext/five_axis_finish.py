@@ -2,8 +2,8 @@
 
 Thin operation (ENGINEERING.md, habit 6): ``opExecute`` maps the op's
 properties and its flat-end or bull-nose tool controller (the bull nose's
-corner radius: Diameter / 2 - FlatRadius, as FreeCAD's bullnose.fcstd
-describes it) to ``isocam_core.FiveAxisParams``,
+corner radius: Diameter / 2 - FlatRadius, as FreeCAD 0.20 and 1.0's
+bullnose.fcstd describes it, or 1.1's CornerRadius) to ``isocam_core.FiveAxisParams``,
 runs ``isocam_core.five_axis_finish`` on the picked faces in a worker thread
 and turns the returned flat arrays (move kind, tip, rotary angles) into
 ``Path.Command``s with X Y Z A C words. The geometry is the core's
@@ -271,7 +271,11 @@ _ARGUMENT_SOURCES = (
     ("a_max", "property AMax"),
     ("tool_length", "property ToolLength"),
     ("tool_radius", "the tool controller's tool diameter / 2"),
-    ("corner_radius", "the tool controller's bull nose: Diameter / 2 - FlatRadius"),
+    (
+        "corner_radius",
+        "the tool controller's bull nose: its CornerRadius (FreeCAD 1.1), "
+        "or Diameter / 2 - FlatRadius (0.20, 1.0)",
+    ),
     ("air_clearance", "property AirClearance"),
     ("rapid_rate", "property RapidRate"),
     ("posted_resolution", "property PostPrecision"),
@@ -406,7 +410,8 @@ def _feeds(obj):
 
 def _corner_radius(tool, tc):
     """The bull nose's corner radius (0 for a flat end); the core checks
-    0 <= rc < R and names corner_radius (ARGUMENT_SOURCES: FlatRadius)."""
+    0 <= rc < R and names corner_radius (ARGUMENT_SOURCES: CornerRadius or
+    FlatRadius)."""
     corner = compat.corner_radius(tool)
     if corner is None:
         raise IsoCAMError(

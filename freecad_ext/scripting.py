@@ -49,10 +49,11 @@ def make_ball_end_tool_controller(job, diameter, **kwargs):
 
 def make_bull_nose_tool_controller(job, diameter, corner_radius, **kwargs):
     """A bull nose (ToolBit shape bullnose.fcstd) of `diameter` and
-    `corner_radius` (mm): FreeCAD's shape takes the flat bottom's radius,
-    FlatRadius = diameter / 2 - corner_radius."""
+    `corner_radius` (mm): FreeCAD 0.20 and 1.0's shape takes the flat
+    bottom's radius, FlatRadius = diameter / 2 - corner_radius, 1.1's the
+    CornerRadius (compat.set_corner_radius)."""
     tc = make_tool_controller(job, "bullnose.fcstd", diameter, **kwargs)
-    tc.Tool.FlatRadius = diameter / 2.0 - corner_radius
+    compat.set_corner_radius(tc.Tool, corner_radius)
     return tc
 
 

@@ -16,6 +16,7 @@ import unittest
 
 import FreeCAD
 import Part
+from freecad_ext import compat
 
 from test_five_axis_finish import (
     FiveAxisFinishTest,
@@ -49,7 +50,8 @@ class BullNoseTest(FiveAxisFinishTest):
         built, op, _left, _over = self.run_case(
             "BullTilted", tilted_plane(), top_face, corner=CORNER
         )
-        self.assertAlmostEqual(built.job.Operations.Group[0].ToolController.Tool.FlatRadius, 2.0)
+        tool = built.job.Operations.Group[0].ToolController.Tool
+        self.assertAlmostEqual(compat.corner_radius(tool), CORNER)
         h = op.ScallopHeight.Value
         lead = math.radians(op.LeadAngle.Value)
         ball = 2 * math.sqrt(2 * CORNER * h - h * h)
@@ -70,7 +72,9 @@ class BullNoseTest(FiveAxisFinishTest):
         self.run_case("BullSaddle", Part.Shape(saddle()), lambda s: 1, corner=CORNER)
 
     def test_ball_shaped_bull_nose_is_refused_by_name(self):
-        # FlatRadius 0: the corner is the whole radius, a ball.
+        # The corner is the whole radius, a ball (FlatRadius 0 on 0.20 and
+        # 1.0, CornerRadius 3 on 1.1): refused naming the core's argument and
+        # the property this FreeCAD's tool sets it by.
         from test_five_axis_finish import Built
         from freecad_ext import scripting
 
@@ -80,7 +84,7 @@ class BullNoseTest(FiveAxisFinishTest):
         op = built.op([top_face(built.clone.Shape)], tc=tc)
         self.assertIn("Invalid", op.State)
         self.assertIn("corner_radius", op.getStatusString())
-        self.assertIn("FlatRadius", op.getStatusString())
+        self.assertIn(compat.corner_radius_property(tc.Tool), op.getStatusString())
         self.assertEqual(len(op.Path.Commands), 0)
 
 

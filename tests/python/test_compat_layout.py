@@ -344,8 +344,16 @@ class OperationsTable(unittest.TestCase):
         self.assertFalse(compat.is_flat_bottomed(ball))
         del bull.FlatRadius
         self.assertIsNone(compat.corner_radius(bull))  # unknown: the op says so
-        bull.CornerRadius = 0.5  # a tool that gives it directly
+        bull.CornerRadius = 0.5  # a tool that gives it directly (FreeCAD 1.1)
         self.assertEqual(compat.corner_radius(bull), 0.5)
+        self.assertEqual(compat.corner_radius_property(bull), "CornerRadius")
+        compat.set_corner_radius(bull, 1.25)
+        self.assertEqual(compat.corner_radius(bull), 1.25)
+        del bull.CornerRadius
+        bull.FlatRadius = 2.0  # FreeCAD 0.20 and 1.0: set by the flat bottom's radius
+        self.assertEqual(compat.corner_radius_property(bull), "FlatRadius")
+        compat.set_corner_radius(bull, 1.25)
+        self.assertEqual(bull.FlatRadius, 1.75)
 
     def test_no_tool_controller(self):
         inputs = self.ops.Inputs({"ScallopHeight": 0.01}, None, [("M", "Face1")])
