@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "finishing/face_failure.h"
+#include "finishing/scallop_coverage.h"
 #include "finishing/stepover.h"
 #include "finishing/task_pool.h"
 #include "isocam/errors.h"
@@ -20,79 +21,21 @@ namespace {
 
 using Path = std::vector<FrontPiece>;
 
-// Samples of the face about `step` apart (by the patch's corner-to-corner
-// sides; at most 512 a side per patch), inside its wires: f(u, v).
-template <class F>
-void for_each_sample(const PatchGrid& g, const TrimDomain& trim, bool transposed, double step,
-                     F f) {
-  const auto& ub = g.ubreaks();
-  const auto& vb = g.vbreaks();
-  for (int j = 0; j < g.patches_v(); ++j)
-    for (int i = 0; i < g.patches_u(); ++i) {
-      const std::size_t iu = static_cast<std::size_t>(i), jv = static_cast<std::size_t>(j);
-      const gp_Pnt c00 = g.eval(ub[iu], vb[jv]);
-      const double su =
-          std::max(c00.Distance(g.eval(ub[iu + 1], vb[jv])),
-                   g.eval(ub[iu], vb[jv + 1]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
-      const double sv =
-          std::max(c00.Distance(g.eval(ub[iu], vb[jv + 1])),
-                   g.eval(ub[iu + 1], vb[jv]).Distance(g.eval(ub[iu + 1], vb[jv + 1])));
-      const int nu = std::clamp(static_cast<int>(std::ceil(su / step)), 1, 512);
-      const int nv = std::clamp(static_cast<int>(std::ceil(sv / step)), 1, 512);
-      for (int a = 0; a < nu; ++a)
-        for (int b = 0; b < nv; ++b) {
-          const double s = (a + 0.5) / nu, t = (b + 0.5) / nv;
-          const double u = ub[iu] + s * (ub[iu + 1] - ub[iu]),
-                       v = vb[jv] + t * (vb[jv + 1] - vb[jv]);
-          if (transposed ? trim.contains(v, u) : trim.contains(u, v)) f(u, v);
-        }
-    }
-}
-
-// The normal curvature at the sample (u, v) towards the nearest contact
-// point: across the feed of the path that cuts there.
-double towards_path(const PatchGrid& g, const PathIndex& index, double u, double v) {
-  const gp_Pnt x = g.eval(u, v);
-  gp_Pnt at;
-  index.distance(x, &at);
-  if (x.Distance(at) < 1e-12) return 0.0;
-  return normal_curvature(g, {u, v}, gp_Vec(x, at));
-}
-
-// Definition 1 measured on the face: each sample at distance d from the
-// nearest contact polyline; the ball there leaves at most the cusp of
-// contact points 2 d apart on the normal curvature at the sample towards
-// the path (towards_path()). Samples on concave ground tighter than the
-// ball, where it cannot touch, count in neither number; samples within
-// `ok` / 2 of a path (no worse than the adjacent pairs) skip the curvature.
-void sample_coverage(const PatchGrid& g, const TrimDomain& trim, bool transposed,
-                     const PathIndex& index, double r, double step, double ok, double* max_gap,
-                     double* scallop) {
-  for_each_sample(g, trim, transposed, step, [&](double u, double v) {
-    // Stops at a segment nearer than the largest gap so far and ok / 2:
-    // such a sample changes neither number.
-    const double d = index.distance(g.eval(u, v), nullptr, std::min(*max_gap, 0.5 * ok));
-    if (2 * d <= ok) {
-      *max_gap = std::max(*max_gap, d);
-      return;
-    }
-    // Concave ground tighter than the ball: it cannot touch there (its
-    // offset folds; the clearance cut reports that path as unreachable).
-    const double kappa = towards_path(g, index, u, v);
-    if (kappa * r <= -1.0) return;
-    *max_gap = std::max(*max_gap, d);
-    *scallop = std::max(*scallop, scallop_for_chord(r, 2 * d, kappa));
-  });
-}
-
 // The paths of one face in a working grid, with the measured spacing.
 struct FacePaths {
   std::vector<Path> paths;
   double length = 0.0;  // of the contact polylines
   double max_spacing = 0.0, scallop = 0.0, max_width = 0.0;
   int min_hits = 0, seeds = 0;
+  // The samples the certificate is measured on (about half the flat
+  // stepover apart); the face's grid and trimmed domain outlive it.
+  std::shared_ptr<const FaceSampling> sampling;
   bool capped = false;
   std::shared_ptr<PathIndex> index;  // all the paths' contact polylines
+  // Their segments inside the face's wires (by the segment's middle): what
+  // the clip to the face keeps, so that the coverage checks see the ground
+  // that a clipped-away pass leaves, beside a hole's wire.
+  std::shared_ptr<PathIndex> inside;
 };
 
 struct Tracer {
@@ -103,9 +46,18 @@ struct Tracer {
   const IsoParams& p;
   const ProgressSlice& progress;
   double flat;
+  double h;  // the scallop the strips are spaced for (e included)
+  double e;  // the centres' error: chord + posted rounding (stepover.h)
+  WireClip clip;
   FrontSettings s;
   FacePaths out;
   std::size_t max_paths = 0, samples = 0;
+
+  // A piece into both indexes: whole, and its parts inside the wires.
+  void add(const FrontPiece& pc) {
+    out.index->add(pc);
+    clip.add_inside(pc, out.inside.get());
+  }
 
   // Paths from `front` until no point moves (or the cap).
   void propagate(std::vector<FrontPiece> front) {
@@ -116,7 +68,7 @@ struct Tracer {
         out.paths.push_back(front);
         return;
       }
-      for (const FrontPiece& pc : front) out.index->add(pc);
+      for (const FrontPiece& pc : front) add(pc);
       FrontStep step = advance_front(g, &front, width, s, *out.index);
       out.min_hits += step.min_hits;
       for (const FrontPiece& pc : front) {
@@ -124,6 +76,13 @@ struct Tracer {
         for (std::size_t k = 1; k < pc.size(); ++k) out.length += pc[k - 1].p.Distance(pc[k].p);
       }
       // The certificate: each point with a successor against the next path.
+      // Where the successor is on it (the next path passes within 2% of the
+      // spacing: its polyline's chords sag off the contact curve along the
+      // feed), the pair's chord is that of the arc marched, the spacing, on
+      // the circle of curvature across (the model the width is solved on);
+      // where it was cut out (a fold, a loop, covered ground), the next
+      // path is not that pair's neighbour and the ground between is
+      // certified by the face's samples (FaceSampling::coverage()).
       PathIndex next(flat);
       for (const FrontPiece& pc : step.next) next.add(pc);
       for (const FrontPiece& pc : front)
@@ -132,8 +91,10 @@ struct Tracer {
           if (!q.has_next || q.kappa * p.ball_radius <= -1.0) continue;
           out.max_width = std::max(out.max_width, q.spacing);
           const double c = next.distance(q.p);
-          out.max_spacing = std::max(out.max_spacing, c);
-          out.scallop = std::max(out.scallop, scallop_for_chord(p.ball_radius, c, q.kappa));
+          if (c > 1.02 * q.spacing + 1e-9) continue;
+          const double chord = std::min(c, chord_of_arc(q.spacing, q.kappa));
+          out.max_spacing = std::max(out.max_spacing, chord);
+          out.scallop = raise_scallop(out.scallop, p.ball_radius, chord, q.kappa, e);
         }
       out.paths.push_back(std::move(front));
       front = std::move(step.next);
@@ -165,16 +126,15 @@ struct Tracer {
   // the samples of the face (inside its wires) whose distance to the paths
   // leaves a cusp over h, a few rounds.
   void fill_gaps() {
-    for (int round = 0; round < 4; ++round) {
+    for (int round = 0; round < 8; ++round) {
       std::vector<FrontPiece> front;
-      for_each_sample(g, trim, transposed, flat, [&](double u, double v) {
-        const double d = out.index->distance(g.eval(u, v));
-        if (2 * d <= s.min_spacing) return;
-        const double kappa = towards_path(g, *out.index, u, v);
-        if (kappa * p.ball_radius <= -1.0) return;  // the ball cannot touch there
-        if (2 * d <= stepover_chord(p.ball_radius, p.scallop_height, kappa)) return;
+      out.sampling->for_each([&](double u, double v) {
+        const Gap q = gap_at(g, *out.inside, u, v);
+        if (2 * q.d <= s.min_spacing) return;
+        if (q.kappa * p.ball_radius <= -1.0) return;  // the ball cannot touch there
+        if (2 * q.d <= stepover_chord_with_error(p.ball_radius, h, q.kappa, e)) return;
         for (FrontPiece& pc : seed(u, v)) {
-          out.index->add(pc);
+          add(pc);
           front.push_back(std::move(pc));
         }
         ++out.seeds;
@@ -186,27 +146,26 @@ struct Tracer {
   }
 };
 
+// The paths of a face spaced by `width`, with the centres up to e off.
 FacePaths trace_paths(const PatchGrid& g, const TrimDomain& trim, bool transposed,
-                      const StripWidth& width, const IsoParams& p, const ProgressSlice& progress) {
+                      const StripWidth& width, const IsoParams& p, double e,
+                      const ProgressSlice& progress) {
+  const double h = p.scallop_height;
   const double flat = stepover_for_scallop(p.ball_radius, p.scallop_height);
-  Tracer t{g, trim, transposed, width, p, progress, flat, {}, {}};
+  Tracer t{g,        trim, transposed, width, p,
+           progress, flat, h,          e,     WireClip(g, trim, transposed, p.chord_tolerance),
+           {},       {}};
+  t.out.sampling =
+      std::make_shared<const FaceSampling>(g, trim, transposed, 0.5 * flat, p.ball_radius, h, e);
   t.s.sample_max = flat;
   t.s.min_spacing = 0.02 * flat;
   t.max_paths = static_cast<std::size_t>(8.0 * g.size() / t.s.min_spacing) + 100;
   t.out.index = std::make_shared<PathIndex>(flat);
+  t.out.inside = std::make_shared<PathIndex>(flat);
   t.propagate(start_front(g, flat, t.s.sample_max));
   progress.report(0.8);
   t.fill_gaps();
   return std::move(t.out);
-}
-
-// Contact points of a piece as a curve: parameter t in [k, k+1] runs
-// straight in (u, v) from sample k to k+1 (working grid).
-ParamPt uv_at(const FrontPiece& pc, double t) {
-  const std::size_t k = std::min(static_cast<std::size_t>(std::max(t, 0.0)), pc.size() - 2);
-  const double f = t - double(k);
-  return {pc[k].uv.u + f * (pc[k + 1].uv.u - pc[k].uv.u),
-          pc[k].uv.v + f * (pc[k + 1].uv.v - pc[k].uv.v)};
 }
 
 class PieceCutter {
@@ -214,8 +173,7 @@ class PieceCutter {
   PieceCutter(const PatchGrid& g, const TrimDomain& trim, bool transposed, const IsoParams& p,
               const ClearanceModel& model)
       : g_(g),
-        trim_(trim),
-        transposed_(transposed),
+        clip_(g, trim, transposed, p.chord_tolerance),
         p_(p),
         model_(model),
         clearance_(model.query_distance(p.ball_radius - p.chord_tolerance - p.gouge_tolerance)) {}
@@ -224,16 +182,8 @@ class PieceCutter {
   // `clipped` receives the contact polyline of each part inside the face.
   void cut(const FrontPiece& pc, std::vector<CutPiece>* out, int* curves, double* unreachable,
            double* from_above, PathIndex* clipped) const {
-    for (const auto& [a, b] : inside_runs(pc)) {
-      FrontPiece contact;
-      for (double t = a;; t = std::min(b, std::floor(t) + 1.0)) {
-        FrontPoint x;
-        x.uv = uv_at(pc, t);
-        x.p = g_.eval(x.uv.u, x.uv.v);
-        contact.push_back(x);
-        if (t >= b) break;
-      }
-      clipped->add(contact);
+    for (const auto& [a, b] : clip_.inside_runs(pc)) {
+      clipped->add(clip_.contact(pc, a, b));
       std::vector<gp_Pnt> pts;
       std::vector<double> ts;
       auto f = [&](double t) { return centre(uv_at(pc, t)); };
@@ -266,57 +216,9 @@ class PieceCutter {
     const SurfaceDerivs d = g_.d1(uv.u, uv.v);
     return d.p.Translated(g_.normal(uv.u, uv.v, &d) * p_.ball_radius);
   }
-  bool inside(const ParamPt& uv) const {
-    return transposed_ ? trim_.contains(uv.v, uv.u) : trim_.contains(uv.u, uv.v);
-  }
-  TrimDomain::RectClass classify(const ParamPt& a, const ParamPt& b) const {
-    const double u0 = std::min(a.u, b.u), u1 = std::max(a.u, b.u);
-    const double v0 = std::min(a.v, b.v), v1 = std::max(a.v, b.v);
-    return transposed_ ? trim_.classify_rect(v0, v1, u0, u1) : trim_.classify_rect(u0, u1, v0, v1);
-  }
-  // Between t_in (inside) and t_out, the end of the inside part, by
-  // bisection to 1e-4 of the chord tolerance in space.
-  double boundary(const FrontPiece& pc, double t_in, double t_out) const {
-    for (int it = 0; it < 60; ++it) {
-      const ParamPt a = uv_at(pc, t_in), b = uv_at(pc, t_out);
-      if (g_.eval(a.u, a.v).Distance(g_.eval(b.u, b.v)) <= 1e-4 * p_.chord_tolerance) break;
-      const double m = 0.5 * (t_in + t_out);
-      (inside(uv_at(pc, m)) ? t_in : t_out) = m;
-    }
-    return t_in;
-  }
-  // The parameter intervals of the piece inside the face: a segment whose
-  // rectangle may meet the boundary is also tested at 7 interior points.
-  std::vector<std::pair<double, double>> inside_runs(const FrontPiece& pc) const {
-    std::vector<std::pair<double, double>> runs;
-    bool in = inside(pc[0].uv);
-    double start = 0.0;
-    for (std::size_t k = 0; k + 1 < pc.size(); ++k) {
-      using RectClass = TrimDomain::RectClass;
-      RectClass state = classify(pc[k].uv, pc[k + 1].uv);
-      // An end inside (or the previous run open) contradicts "outside": test it.
-      if (state == RectClass::Outside && (in || inside(pc[k + 1].uv))) state = RectClass::Boundary;
-      if (state == RectClass::Inside && in) continue;
-      std::vector<double> ts;
-      if (state == RectClass::Boundary)
-        for (int q = 1; q < 8; ++q) ts.push_back(double(k) + q / 8.0);
-      ts.push_back(double(k + 1));
-      double tp = double(k);
-      for (double t : ts) {
-        const bool s = state == RectClass::Outside ? false : inside(uv_at(pc, t));
-        if (in && !s) runs.emplace_back(start, boundary(pc, tp, t));
-        if (!in && s) start = boundary(pc, t, tp);
-        in = s;
-        tp = t;
-      }
-    }
-    if (in) runs.emplace_back(start, double(pc.size() - 1));
-    return runs;
-  }
 
   const PatchGrid& g_;
-  const TrimDomain& trim_;
-  bool transposed_;
+  WireClip clip_;
   const IsoParams& p_;
   const ClearanceModel& model_;
   double clearance_;
@@ -326,19 +228,20 @@ struct FaceOut {
   FacePaths paths;
   std::shared_ptr<const PatchGrid> grid;
   IsoDirection dir = IsoDirection::V;
-  double gap = 0.0, gap_scallop = 0.0;  // sample_coverage()
+  double gap = 0.0, gap_scallop = 0.0;  // FaceSampling::coverage()
   std::optional<std::string> failed;    // why the geometry defeated it (face_failure.h)
-  // Meets the scallop asked (5% for what the samples miss) by its certificate.
-  bool meets(double h) const { return std::max(paths.scallop, gap_scallop) <= 1.05 * h; }
+  double certificate() const { return std::max(paths.scallop, gap_scallop); }
+  // Meets the scallop asked by its certificate.
+  bool meets(double h) const { return certificate() <= h * (1 + 1e-9); }
 };
 
 // Phase 1: the paths of every face in every direction tried (tasks on
-// threads), each with its certificate before the clip.
+// threads), each with its certificate before the clip (against the paths'
+// parts inside the wires).
 std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
                                 const std::vector<IsoDirection>& dirs, const StripWidth& width,
-                                const IsoParams& params, const ProgressSlice& all) {
+                                const IsoParams& params, double e, const ProgressSlice& all) {
   const std::size_t nd = dirs.size();
-  const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
   std::vector<FaceOut> tried(faces.size() * nd);
   TaskProgress tracing(all.sub(0.0, 0.7), tried.size());
   for_each_index(tried.size(), params.threads, [&](std::size_t k) {
@@ -348,9 +251,8 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
     const bool transposed = o.dir == IsoDirection::U;
     o.failed = face_failure(face.index, [&] {
       o.grid = std::make_shared<const PatchGrid>(transposed ? face.grid->transposed() : *face.grid);
-      o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params, tracing.task(k));
-      sample_coverage(*o.grid, *face.trim, transposed, *o.paths.index, params.ball_radius, flat,
-                      o.paths.max_spacing, &o.gap, &o.gap_scallop);
+      o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params, e, tracing.task(k));
+      o.paths.sampling->coverage(*o.paths.inside, &o.gap, &o.gap_scallop);
     });
   });
   return tried;
@@ -409,8 +311,7 @@ FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
     }
     std::move(pieces.begin(), pieces.end(), std::back_inserter(out.pieces));
   }
-  sample_coverage(*o->grid, *face.trim, transposed, clipped, params.ball_radius, 0.5 * flat,
-                  o->paths.max_spacing, &o->gap, &o->gap_scallop);
+  o->paths.sampling->coverage(clipped, &o->gap, &o->gap_scallop);
   return out;
 }
 
@@ -451,13 +352,16 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
   if (!(params.chord_tolerance > 0))
     throw InvalidArgument("chord_tolerance must be > 0 mm here (the job derives it; got " +
                           std::to_string(params.chord_tolerance) + ")");
-  const StripWidth width =
-      width_in ? width_in : ball_strip_width(params.ball_radius, params.scallop_height);
+  // The centres' error (stepover.h): the strips are spaced for the cusp
+  // the budget leaves, so the certificate, e included, stays under h.
+  const double e = params.chord_tolerance + 0.5 * std::sqrt(3.0) * params.posted_resolution;
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (params.direction != IsoDirection::Auto) dirs = {params.direction};
   const ProgressSlice all(progress);
   ScallopPieces out;
-  std::vector<FaceOut> chosen = choose(plan_faces(faces, dirs, width, params, all), dirs.size(),
+  const StripWidth width =
+      width_in ? width_in : ball_strip_width(params.ball_radius, params.scallop_height, e);
+  std::vector<FaceOut> chosen = choose(plan_faces(faces, dirs, width, params, e, all), dirs.size(),
                                        params.scallop_height, &out.warnings);
   std::vector<FaceCut> cut(faces.size());
   for_each_index(faces.size(), params.threads, [&](std::size_t f) {

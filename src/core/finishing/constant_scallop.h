@@ -37,10 +37,23 @@
 //    bisection at the boundary), offset to the ball centre S + r N within
 //    the chord tolerance, and cut by the global clearance model where the
 //    ball would come closer than r - chord_tolerance - gouge_tolerance.
-//  - The certificate is measured, not intended: for every sample of a path
-//    that has a successor, the distance to the next path's contact polyline
-//    (max_spacing), and the cusp that chord leaves on the largest curvature
-//    across seen between them (guaranteed_scallop).
+//  - Where the front leaves ground uncovered (a fold, a turn back, a wedge
+//    between its parts, a pass clipped away beside a hole's wire), new paths
+//    start there: seeds on the face's samples (scallop_coverage.h: inside
+//    the wires, finer on convex patches, and on the boundary) whose cusp
+//    against the paths' parts inside the wires exceeds h, a few rounds.
+//  - The certificate is measured, not intended, with the centres up to
+//    e = chord_tolerance + sqrt(3)/2 posted_resolution off the offset
+//    (scallop_with_error(), e included): for every sample of a path whose
+//    successor is on the next path, the cusp of that pair (its chord on the
+//    circle of the largest curvature across seen between them); and on
+//    every sample of the face, the cusp its distance to the clipped contact
+//    polylines leaves (where a successor was cut out, this is what measures
+//    the ground beyond). guaranteed_scallop is the larger; max_spacing the
+//    largest chord or twice the largest sample distance. The default strip
+//    width is spaced for the whole number to be h (ball_strip_width(r, h,
+//    e)).
+
 #pragma once
 
 #include <optional>

@@ -402,10 +402,9 @@ PatternCut cut_parallel_planes(ModelFaces& mf, const JobPlan& job, const Clearan
 }
 
 // Phase 2, ConstantScallop: its own engine per face (constant_scallop.cpp).
-// The strips are spaced for the whole scallop height (the engine does not
-// split the budget yet: spaced for h - e it loses paths on a sphere cap), so
-// the guarantee, which adds the centres' error e = chord + posted rounding
-// to the measured cusp, can exceed h by e.
+// The strips are spaced for the cusp the budget leaves (the centres' error
+// e = chord + posted rounding taken out, as Adaptive does); its measured
+// certificate includes e.
 PatternCut cut_constant_scallop(ModelFaces& mf, const JobPlan& job, const ClearanceModel& model,
                                 IsoResult& result, Progress* progress) {
   const std::vector<std::size_t> live = live_faces(mf);
@@ -426,7 +425,7 @@ PatternCut cut_constant_scallop(ModelFaces& mf, const JobPlan& job, const Cleara
   result.warnings.insert(result.warnings.end(), cut.warnings.begin(), cut.warnings.end());
   PatternCut out;
   out.max_dist = cut.max_spacing;
-  out.max_scallop = job.budget.centre_error() + cut.guaranteed_scallop;
+  out.max_scallop = cut.guaranteed_scallop;
   out.pieces = std::move(cut.pieces);
   return out;
 }

@@ -160,14 +160,15 @@ bool successor(const PatchGrid& g, FrontPiece* piece, std::size_t k, const Strip
   // W: the width allowed; D: the spacing, no more than the march went (it
   // stops on the boundary).
   double W = wp, D = std::min(wp, m.back().s), kappa = f.kappa_across;
-  for (int it = 0; it < 4; ++it) {
+  for (int it = 0; it < 8; ++it) {
     const MarchPt mq = at_length(g, m, D), mm = at_length(g, m, 0.5 * D);
     const StripFrame fq = make_frame(g, mq.uv, f.feed), fm = make_frame(g, mm.uv, f.feed);
     kappa = std::max({f.kappa_across, fq.kappa_across, fm.kappa_across});
     W = std::min({W, width(fq), width(fm)});
-    if (W >= D * (1 - 1e-3)) break;
+    if (W >= D * (1 - 1e-4)) break;
     D = W;
   }
+  D = std::min(D, W);  // never wider than a width seen
   *min_hit = W < s.min_spacing;
   D = std::max(D, std::min(s.min_spacing, m.back().s));
   const MarchPt mq = at_length(g, m, D);
@@ -329,10 +330,10 @@ double PathIndex::to_segment(const gp_Pnt& p, std::size_t i) const {
   return p.Distance(a.Translated(ab * t));
 }
 
-StripWidth ball_strip_width(double r, double h) {
-  const double cap = 4.0 * std::sqrt(2.0 * r * h - h * h);
-  return [r, h, cap](const StripFrame& f) {
-    return std::min(cap, stepover_arc(r, h, f.kappa_across));
+StripWidth ball_strip_width(double r, double h, double e) {
+  const double cap = 2.0 * stepover_arc_with_error(r, h, 0.0, e);
+  return [r, h, e, cap](const StripFrame& f) {
+    return std::min(cap, stepover_arc_with_error(r, h, f.kappa_across, e));
   };
 }
 
@@ -419,6 +420,7 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
   for (FrontPiece& piece : *front) {
     FrontPiece cur;
     std::vector<gp_Vec> feeds;
+    std::vector<std::size_t> from;  // the points of `piece` that cur's came from
     auto flush = [&]() {
       cut_folds(feeds, &cur);
       cut_loops(g, &cur);
@@ -444,9 +446,17 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
         }
         len = cur.front().p.Distance(cur.back().p);
       }
-      if (cur.size() >= 2 && len > 1e-9 * g.size()) out.next.push_back(std::move(cur));
+      if (cur.size() >= 2 && len > 1e-9 * g.size()) {
+        out.next.push_back(std::move(cur));
+      } else {
+        // Nothing left to cut (the successors met in a pole): their sources
+        // have no next path to be measured against (the face's sampled
+        // coverage, constant_scallop.cpp, covers the ground beyond them).
+        for (std::size_t i : from) piece[i].has_next = false;
+      }
       cur.clear();
       feeds.clear();
+      from.clear();
     };
     for (std::size_t k = 0; k < piece.size(); ++k) {
       FrontPoint q;
@@ -466,6 +476,7 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
       if (!cur.empty() && cur.back().p.Distance(q.p) > 3 * s.sample_max) flush();
       cur.push_back(q);
       feeds.push_back(frame_at(g, piece, k).feed);
+      from.push_back(k);
     }
     flush();
   }

@@ -41,9 +41,11 @@ struct StripFrame {
 // 5-axis tools give theirs (the tilted flat end's effective cutting shape).
 using StripWidth = std::function<double(const StripFrame&)>;
 
-// The ball end's: stepover_arc(r, h, kappa_across) (finishing/stepover.h),
-// capped at twice the flat stepover (where the ball leaves no cusp).
-StripWidth ball_strip_width(double r, double h);
+// The ball end's: stepover_arc_with_error(r, h, kappa_across, e)
+// (finishing/stepover.h), the strip within which balls whose centres are up
+// to e off the exact offset leave at most h, e included; capped at twice the
+// flat one (where the ball leaves no cusp).
+StripWidth ball_strip_width(double r, double h, double e = 0.0);
 
 struct FrontPoint {
   ParamPt uv;

@@ -82,6 +82,13 @@ double stepover_chord_with_error(double r, double h, double kappa, double e) {
   return stepover_chord(r - e, h - e, kappa / grow) / grow;
 }
 
+double stepover_arc_with_error(double r, double h, double kappa, double e) {
+  if (!(h > e)) return 0.0;
+  if (!ball_fits(r, kappa)) return kInf;
+  const double grow = 1.0 + e * kappa;
+  return stepover_arc(r - e, h - e, kappa / grow) / grow;
+}
+
 StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p, double e)
     : g_(g),
       r_(p.ball_radius),

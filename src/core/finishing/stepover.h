@@ -39,6 +39,9 @@ double scallop_with_error(double r, double c, double kappa, double e);
 // Inverse in c: the chord between contact points on S that leaves at most
 // h above S with centre error e (needs e < h; +inf where no cusp forms).
 double stepover_chord_with_error(double r, double h, double kappa, double e);
+// The arc on the surface between those two contact points (the strip width
+// of the constant-scallop pattern); +inf where no cusp forms.
+double stepover_arc_with_error(double r, double h, double kappa, double e);
 
 // How the two user budgets are split (isocurve_job.cpp, split_budget()).
 // Material left above the design: e + cusp <= scallop_height, with e =
