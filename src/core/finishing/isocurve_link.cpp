@@ -90,30 +90,39 @@ class AirMoves {
 
   // Rapids keep r + air_clearance from the model (the move across, the
   // descent); the lift from a cutting position and the fed entry keep the
-  // cutting clearance. The move across: the lowest of the heights
-  // max(a.z, approach.z) + air_clearance x 2^k found clear, else the safe
-  // height (which the caller checked to be above the path; not queried).
-  // The approach, the first of these that is r + air_clearance clear:
-  // a ramp down to b along the pass (`dir`, horizontal, if given) from
-  // air_clearance back and as much above it, fed at the horizontal feed
-  // (three times the vertical one); air_clearance above b; air_clearance
-  // out along the surface normal `n` at b (a steep wall); each raised by
-  // air_clearance x (2^k - 1) until the descent to it is as clear.
+  // cutting clearance. The entry starts from one of two points, whichever
+  // makes the faster hop: a ramp down to b along the pass (`dir`,
+  // horizontal, if given) from air_clearance back and as much above it, fed
+  // at the horizontal feed (three times the vertical one), where that ramp
+  // is clear; and air_clearance above b, or out along the surface normal `n`
+  // at b where the point above is not clear (a steep wall), plunged at the
+  // vertical feed (plan_from()).
   Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
-    Hop h;
-    h.top = safe_c_;
     const double air = p_.air_clearance;
     const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
     gp_Pnt first = above;
+    if (n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
+      first = b.Translated(*n * air);
+    Hop best = plan_from(a, b, first, false);
     if (dir) {
       const gp_Pnt back = above.Translated(*dir * -air);
-      if (model_.clear(back, air_) && model_.clear(back, b, cut_)) {
-        first = back;
-        h.ramp = true;
+      if (model_.clear(back, b, cut_)) {
+        const Hop ramp = plan_from(a, b, back, true);
+        if (ramp.time < best.time) best = ramp;
       }
     }
-    if (!h.ramp && n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
-      first = b.Translated(*n * air);
+    return best;
+  }
+
+  // The hop whose fed entry starts at or above `first` (a ramp or a
+  // plunge). The move across: the lowest of the heights max(a.z, first.z) +
+  // air_clearance x 2^k found clear, else the safe height (which the caller
+  // checked to be above the path; not queried).
+  Hop plan_from(const gp_Pnt* a, const gp_Pnt& b, const gp_Pnt& first, bool ramp) const {
+    Hop h;
+    h.top = safe_c_;
+    h.ramp = ramp;
+    const double air = p_.air_clearance;
     const double base = a ? std::max(a->Z(), first.Z()) : first.Z();
     for (int k = 0; a && k < 12; ++k) {
       const double z = base + air * double(1 << k);
@@ -125,15 +134,32 @@ class AirMoves {
       if (model_.clear(*a, up(*a, z), cut_)) h.top = z;
       break;
     }
-    // The descent: rapid to the approach point, lowest first.
+    // The descent: rapid to the approach point, lowest first: the lowest of
+    // first + air_clearance x (2^k - 1) up whose descent is clear, then
+    // lowered by bisection towards the last that is not, to 2% of
+    // air_clearance (on a slope the point above b is nearer the ground than
+    // its height: there the rapid stops at air_clearance / cos(slope), not
+    // at the next power of two).
     h.approach = up(first, h.top);
-    for (int k = 0; k < 12; ++k) {
-      const gp_Pnt e = first.Translated(gp_Vec(0, 0, air * double((1 << k) - 1)));
-      if (e.Z() >= h.top) break;
-      if (model_.clear(e, up(first, h.top), air_) && model_.clear(e, b, cut_)) {
-        h.approach = e;
-        break;
+    auto descent_clear = [&](double dz) {
+      const gp_Pnt e = first.Translated(gp_Vec(0, 0, dz));
+      return model_.clear(e, up(first, h.top), air_) && model_.clear(e, b, cut_);
+    };
+    double below = -1.0;  // a raise whose descent is not clear (none yet)
+    for (int k = 0; k < 13; ++k) {
+      // The last try: just under the height across (its own descent is nil).
+      double dz = std::min(air * double((1 << k) - 1), h.top - first.Z() - 0.02 * air);
+      if (dz < 0 || dz <= below) break;
+      if (!descent_clear(dz)) {
+        below = dz;
+        continue;
       }
+      while (below >= 0 && dz - below > 0.02 * air) {
+        const double mid = 0.5 * (below + dz);
+        (descent_clear(mid) ? dz : below) = mid;
+      }
+      h.approach = first.Translated(gp_Vec(0, 0, dz));
+      break;
     }
     if (h.approach.Z() >= h.top) {  // fed all the way down, straight above b
       h.ramp = false;
@@ -156,17 +182,29 @@ class AirMoves {
   // r + p to the model (p the posted rounding: a piece ends where the reach
   // does, beside an overhang, and the column grazes it; or it runs up a
   // wall at r, which the rounding may move into the wall), its lower part
-  // is fed rather than a rapid: up to the lowest of the heights
-  // a.z + air_clearance x 2^k from which the rest keeps that (the whole lift
-  // if none), so that no posted rapid cuts. Returns the height where the
-  // rapid starts.
+  // is fed rather than a rapid, so that no posted rapid cuts: up to a
+  // height from which the rest keeps r + p (the whole lift if none). That
+  // height: the lowest of a.z + air_clearance x 2^k that does, then lowered
+  // by bisection towards the last that does not, to 2% of air_clearance
+  // (the column's clearance only grows as its foot rises). Returns the
+  // height where the rapid starts.
   double lift_fed_to(const gp_Pnt& a, double top) const {
     const double start = a.Z() + p_.chord_tolerance + p_.gouge_tolerance;
     if (top <= start || model_.clear(up(a, start), up(a, top), touch_)) return a.Z();
+    double lo = start;  // its column from here up is not clear
     for (int k = 0; k < 12; ++k) {
       const double z = a.Z() + p_.air_clearance * double(1 << k);
       if (z >= top) break;
-      if (model_.clear(up(a, z), up(a, top), touch_)) return z;
+      if (!model_.clear(up(a, z), up(a, top), touch_)) {
+        lo = z;
+        continue;
+      }
+      double hi = z;  // clear from here up
+      while (hi - lo > 0.02 * p_.air_clearance) {
+        const double mid = 0.5 * (lo + hi);
+        (model_.clear(up(a, mid), up(a, top), touch_) ? hi : lo) = mid;
+      }
+      return hi;
     }
     return top;
   }
