@@ -258,8 +258,9 @@ TEST_P(AirMoves, ClearOfTheWholeModelLowAndCheap) {
   ASSERT_GT(lifts, 0);
   // The shares (tests/data/expected.txt, AirMoves/<case>): hops below the
   // safe height, air time against retracting to it, and entries fed from
-  // farther than 4 air_clearance (the fed part of an entry is
-  // air_clearance x 2^k above the surface, mostly the first step).
+  // farther than 4 air_clearance (the fed part of an entry starts at the
+  // lowest height whose rapid descent is clear, about air_clearance above
+  // the surface).
   const std::string name = std::string("AirMoves/") + c.name;
   EXPECT_TRUE(test::meets_expected(name, "low_lift_share", double(low_lifts) / lifts));
   EXPECT_TRUE(test::meets_expected(name, "air_time_share", air_minutes / safe_minutes));

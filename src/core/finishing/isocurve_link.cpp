@@ -91,27 +91,30 @@ class AirMoves {
   // Rapids keep r + air_clearance from the model (the move across, the
   // descent); the lift from a cutting position and the fed entry keep the
   // cutting clearance. The entry starts from one of two points, whichever
-  // makes the faster hop: a ramp down to b along the pass (`dir`,
-  // horizontal, if given) from air_clearance back and as much above it, fed
-  // at the horizontal feed (three times the vertical one), where that ramp
-  // is clear; and air_clearance above b, or out along the surface normal `n`
-  // at b where the point above is not clear (a steep wall), plunged at the
-  // vertical feed (plan_from()).
+  // makes the faster hop (plan_from()): a ramp down to b along the pass
+  // (`dir`, horizontal, if given) from air_clearance back and as much above
+  // it, fed at the horizontal feed (three times the vertical one), where
+  // that ramp is clear; or a plunge at the vertical feed from
+  // air_clearance above b, or out along the surface normal `n` at b where
+  // the point above is not clear (a steep wall). A ramp fed from no higher
+  // than twice its first try is taken without planning the plunge (the
+  // plunge could be at most a third of its length, rarely so).
   Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
     const double air = p_.air_clearance;
     const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
-    gp_Pnt first = above;
-    if (n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
-      first = b.Translated(*n * air);
-    Hop best = plan_from(a, b, first, false);
+    std::optional<Hop> ramp;
     if (dir) {
       const gp_Pnt back = above.Translated(*dir * -air);
       if (model_.clear(back, b, cut_)) {
-        const Hop ramp = plan_from(a, b, back, true);
-        if (ramp.time < best.time) best = ramp;
+        ramp = plan_from(a, b, back, true);
+        if (ramp->ramp && ramp->approach.Z() - b.Z() <= 2.0 * air) return *ramp;
       }
     }
-    return best;
+    gp_Pnt first = above;
+    if (n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
+      first = b.Translated(*n * air);
+    const Hop plunge = plan_from(a, b, first, false);
+    return ramp && ramp->time < plunge.time ? *ramp : plunge;
   }
 
   // The hop whose fed entry starts at or above `first` (a ramp or a
