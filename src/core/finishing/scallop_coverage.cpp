@@ -20,15 +20,7 @@ std::vector<double> convex_refinement(const PatchGrid& g, double r, double h, do
   std::vector<double> out(static_cast<std::size_t>(g.patches_u() * g.patches_v()), 1.0);
   for (int j = 0; j < g.patches_v(); ++j)
     for (int i = 0; i < g.patches_u(); ++i) {
-      double lo = 0.0, hi = 0.0;
-      for (double s : kAt)
-        for (double t : kAt) {
-          const CurvatureSample c = curvature_at(g, i, j, s, t);
-          if (!c.ok) continue;
-          lo = std::min(lo, c.k_max);
-          hi = std::max(hi, c.k_max);
-        }
-      const double k = hi + 0.25 * (hi - lo);
+      const double k = patch_curvature_bound(g, i, j, kAt, &CurvatureSample::k_max, 0.0);
       out[static_cast<std::size_t>(j * g.patches_u() + i)] =
           std::clamp(stepover_chord_with_error(r, h, k, e) / flat, 1.0 / 16, 1.0);
     }

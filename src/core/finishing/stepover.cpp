@@ -100,16 +100,8 @@ StepoverField::StepoverField(const PatchGrid& g, const IsoParams& p, double e)
   delta_.assign(n, flat_);
   for (int j = 0; j < g.patches_v(); ++j)
     for (int i = 0; i < g.patches_u(); ++i) {
-      double lo = kInf, hi = -kInf;
-      for (double s : kSample)
-        for (double t : kSample) {
-          const CurvatureSample c = curvature_at(g, i, j, s, t);
-          if (!c.ok) continue;
-          lo = std::min(lo, c.k_cross);
-          hi = std::max(hi, c.k_cross);
-        }
       const std::size_t k = static_cast<std::size_t>(j * nu_ + i);
-      kappa_[k] = hi >= lo ? hi + 0.25 * (hi - lo) : 0.0;
+      kappa_[k] = patch_curvature_bound(g, i, j, kSample, &CurvatureSample::k_cross, 0.0);
       // Concave ground would allow a wider step; the curvature bound takes
       // at most twice the flat one (which also bounds the step where the
       // ball cannot reach), the flat bound never more than the flat one.
