@@ -32,9 +32,9 @@ struct FacePaths {
   std::shared_ptr<const FaceSampling> sampling;
   bool capped = false;
   std::shared_ptr<PathIndex> index;  // all the paths' contact polylines
-  // Their segments inside the face's wires (by the segment's middle): what
-  // the clip to the face keeps, so that the coverage checks see the ground
-  // that a clipped-away pass leaves, beside a hole's wire.
+  // Their parts inside the face's wires (clipped as the cut clips them):
+  // what the clip to the face keeps, so that the coverage checks see the
+  // ground that a clipped-away pass leaves, beside a hole's wire.
   std::shared_ptr<PathIndex> inside;
 };
 

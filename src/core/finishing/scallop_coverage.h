@@ -42,9 +42,6 @@ class FaceSampling {
   // ball, where it cannot touch, count in neither.
   void coverage(const PathIndex& index, double* max_gap, double* scallop) const;
 
-  double ball_radius() const { return r_; }
-  double centre_error() const { return e_; }
-
  private:
   const PatchGrid& g_;
   const TrimDomain& trim_;
