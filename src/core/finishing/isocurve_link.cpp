@@ -4,6 +4,7 @@
 #include <limits>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "finishing/coverage.h"
 #include "finishing/task_pool.h"
@@ -61,6 +62,28 @@ double polyline_length(const std::vector<gp_Pnt>& pts) {
   double s = 0;
   for (std::size_t k = 1; k < pts.size(); ++k) s += pts[k - 1].Distance(pts[k]);
   return s;
+}
+
+// The lowest of the increasing `tries` at which `clear` holds, lowered by
+// bisection to `tol` towards the try before it (or `below`, a value known
+// not to hold) where there is one; nothing if it holds at none. `clear` is
+// taken to grow with its argument (a higher start only shortens the move it
+// checks); what is returned has been checked.
+template <class Clear>
+std::optional<double> lowest_clear(const std::vector<double>& tries, std::optional<double> below,
+                                   double tol, Clear clear) {
+  for (double hi : tries) {
+    if (!clear(hi)) {
+      below = hi;
+      continue;
+    }
+    while (below && hi - *below > tol) {
+      const double mid = 0.5 * (*below + hi);
+      (clear(mid) ? hi : *below) = mid;
+    }
+    return hi;
+  }
+  return std::nullopt;
 }
 
 // The air moves between two ball centres a and b (or from the safe height
@@ -148,22 +171,16 @@ class AirMoves {
       const gp_Pnt e = first.Translated(gp_Vec(0, 0, dz));
       return model_.clear(e, up(first, h.top), air_) && model_.clear(e, b, cut_);
     };
-    double below = -1.0;  // a raise whose descent is not clear (none yet)
+    std::vector<double> raises;
     for (int k = 0; k < 13; ++k) {
       // The last try: just under the height across (its own descent is nil).
-      double dz = std::min(air * double((1 << k) - 1), h.top - first.Z() - 0.02 * air);
-      if (dz < 0 || dz <= below) break;
-      if (!descent_clear(dz)) {
-        below = dz;
-        continue;
-      }
-      while (below >= 0 && dz - below > 0.02 * air) {
-        const double mid = 0.5 * (below + dz);
-        (descent_clear(mid) ? dz : below) = mid;
-      }
-      h.approach = first.Translated(gp_Vec(0, 0, dz));
-      break;
+      const double dz = std::min(air * double((1 << k) - 1), h.top - first.Z() - 0.02 * air);
+      if (dz < 0 || (!raises.empty() && dz <= raises.back())) break;
+      raises.push_back(dz);
     }
+    if (const std::optional<double> dz =
+            lowest_clear(raises, std::nullopt, 0.02 * air, descent_clear))
+      h.approach = first.Translated(gp_Vec(0, 0, *dz));
     if (h.approach.Z() >= h.top) {  // fed all the way down, straight above b
       h.ramp = false;
       if (a && h.top < safe_c_ &&
@@ -194,22 +211,16 @@ class AirMoves {
   double lift_fed_to(const gp_Pnt& a, double top) const {
     const double start = a.Z() + p_.chord_tolerance + p_.gouge_tolerance;
     if (top <= start || model_.clear(up(a, start), up(a, top), touch_)) return a.Z();
-    double lo = start;  // its column from here up is not clear
+    std::vector<double> heights;
     for (int k = 0; k < 12; ++k) {
       const double z = a.Z() + p_.air_clearance * double(1 << k);
       if (z >= top) break;
-      if (!model_.clear(up(a, z), up(a, top), touch_)) {
-        lo = z;
-        continue;
-      }
-      double hi = z;  // clear from here up
-      while (hi - lo > 0.02 * p_.air_clearance) {
-        const double mid = 0.5 * (lo + hi);
-        (model_.clear(up(a, mid), up(a, top), touch_) ? hi : lo) = mid;
-      }
-      return hi;
+      heights.push_back(z);
     }
-    return top;
+    // From `start` up the column is not clear.
+    return lowest_clear(heights, start, 0.02 * p_.air_clearance,
+                        [&](double z) { return model_.clear(up(a, z), up(a, top), touch_); })
+        .value_or(top);
   }
 
  private:
