@@ -13,8 +13,10 @@ import json
 import math
 import os
 import subprocess
-
 import sys
+import unittest
+
+import FreeCAD
 
 import fc_test_support as support
 
@@ -23,7 +25,7 @@ sys.path.insert(0, os.path.join(_TESTS, "sim"))
 sys.path.append(_TESTS)
 import expected_figures  # noqa: E402  (tests/: the figures of tests/data/expected.txt)
 import sim_command  # noqa: E402  (tests/sim: the simulator's command line)
-from freecad_ext import scripting
+from freecad_ext import adaptive_isocurve, scripting
 
 
 def stated_bounds(op):
@@ -146,16 +148,17 @@ def describe(name, op, result):
     )
 
 
-def check_measured(testcase, name, op, result):
+def check_measured(testcase, name, op, result, model=None):
     """The measurement saw the part: enough samples and reachable area (the
-    model's figure GcodeSim/<name> reachable_fraction, tests/data/expected.txt),
-    and every reachable point near the path (none left uncovered)."""
+    model's figure GcodeSim/<model or name> reachable_fraction,
+    tests/data/expected.txt), and every reachable point near the path (none
+    left uncovered)."""
     print(describe(name, op, result))
     # 10000: the measurement sampled the picked faces at all (each job of
     # the tests gives 3.5e5 to 2.4e6 samples at its spacing).
     testcase.assertGreater(result["picked_samples"], 10000, name)
     expected_figures.check(
-        testcase, "GcodeSim/" + name, "reachable_fraction", result["reachable_fraction"]
+        testcase, "GcodeSim/" + (model or name), "reachable_fraction", result["reachable_fraction"]
     )
     testcase.assertEqual(result["uncovered_samples"], 0, name)
     # The fed length the machine runs, as the sim measured it, is the op's:
@@ -187,3 +190,72 @@ def assert_within_stated(testcase, name, op, result):
     check_measured(testcase, name, op, result)
     assert_left_within_stated(testcase, name, op, result)
     assert_overcut_within_stated(testcase, name, op, result)
+
+
+def mat_piece():
+    """MAT's B-spline cut to the parameter square [0.35, 0.6]^2 of its range
+    (about 20 x 20 mm of ridges and valleys)."""
+    surf = support.load_shape("MAT.brep").Faces[0].Surface.copy()
+    u0, u1, v0, v1 = surf.bounds()
+    surf.segment(
+        u0 + 0.35 * (u1 - u0),
+        u0 + 0.6 * (u1 - u0),
+        v0 + 0.35 * (v1 - v0),
+        v0 + 0.6 * (v1 - v0),
+    )
+    return surf.toShape()
+
+
+class MeasuredJob(unittest.TestCase):
+    """One model, one Adaptive Isocurve job of PATTERN on all its faces,
+    posted and simulated once for the class; each test checks one promise.
+    A test file subclasses it per model; unittest collects only the
+    subclasses (this base is reached as sim_support.MeasuredJob, never
+    imported into a test module's names)."""
+
+    NAME = SHAPE = None
+    PATTERN = "Adaptive"
+    BALL_DIAMETER = SCALLOP = SPACING = None
+    # The least reachable fraction of the picked area of each model:
+    # GcodeSim/<MODEL> in tests/data/expected.txt (MODEL: NAME unless set;
+    # the reach depends on the model, not on the pattern).
+    MODEL = None
+
+    @classmethod
+    def setUpClass(cls):
+        cls.doc = FreeCAD.newDocument(cls.NAME)
+        model = cls.doc.addObject("Part::Feature", "Model")
+        model.Shape = cls.SHAPE()
+        cls.job = scripting.make_job(model)
+        tc = scripting.make_ball_end_tool_controller(cls.job, cls.BALL_DIAMETER)
+        cls.op = adaptive_isocurve.Create(
+            adaptive_isocurve.OP_NAME, parentJob=cls.job, toolController=tc
+        )
+        clone = cls.job.Model.Group[0]
+        cls.op.Base = [(clone, ["Face%d" % (i + 1) for i in range(len(clone.Shape.Faces))])]
+        cls.op.ScallopHeight = cls.SCALLOP
+        cls.op.Pattern = cls.PATTERN
+        cls.doc.recompute()
+        cls.result = None
+
+    @classmethod
+    def tearDownClass(cls):
+        FreeCAD.closeDocument(cls.doc.Name)
+
+    def measured(self):
+        if self.__class__.result is None:
+            self.assertNotIn("Invalid", self.op.State, self.op.getStatusString())
+            self.__class__.result = measure(
+                self, self.job, self.op, self.BALL_DIAMETER, spacing=self.SPACING
+            )
+            print(describe(self.NAME, self.op, self.__class__.result))
+        return self.__class__.result
+
+    def test_measured(self):
+        check_measured(self, self.NAME, self.op, self.measured(), model=self.MODEL)
+
+    def test_left_within_stated(self):
+        assert_left_within_stated(self, self.NAME, self.op, self.measured())
+
+    def test_overcut_within_stated(self):
+        assert_overcut_within_stated(self, self.NAME, self.op, self.measured())

@@ -32,115 +32,23 @@ import json
 import os
 import unittest
 
-import FreeCAD
-
 import fc_test_support as support
 import sim_support
-from freecad_ext import adaptive_isocurve, scripting
 
 
-def mat_piece():
-    """MAT's B-spline cut to the parameter square [0.35, 0.6]^2 of its range
-    (about 20 x 20 mm of ridges and valleys)."""
-    surf = support.load_shape("MAT.brep").Faces[0].Surface.copy()
-    u0, u1, v0, v1 = surf.bounds()
-    surf.segment(
-        u0 + 0.35 * (u1 - u0),
-        u0 + 0.6 * (u1 - u0),
-        v0 + 0.35 * (v1 - v0),
-        v0 + 0.6 * (v1 - v0),
-    )
-    return surf.toShape()
-
-
-class _Measured(unittest.TestCase):
-    """One model, one Adaptive Isocurve job on all its faces, posted and
-    simulated once for the class; each test checks one promise."""
-
-    NAME = SHAPE = None
-    BALL_DIAMETER = SCALLOP = SPACING = None
-    # The least reachable fraction of the picked area of each model:
-    # GcodeSim/<NAME> in tests/data/expected.txt.
-
-    @classmethod
-    def setUpClass(cls):
-        cls.doc = FreeCAD.newDocument(cls.NAME)
-        model = cls.doc.addObject("Part::Feature", "Model")
-        model.Shape = cls.SHAPE()
-        cls.job = scripting.make_job(model)
-        tc = scripting.make_ball_end_tool_controller(cls.job, cls.BALL_DIAMETER)
-        cls.op = adaptive_isocurve.Create(
-            adaptive_isocurve.OP_NAME, parentJob=cls.job, toolController=tc
-        )
-        clone = cls.job.Model.Group[0]
-        cls.op.Base = [(clone, ["Face%d" % (i + 1) for i in range(len(clone.Shape.Faces))])]
-        cls.op.ScallopHeight = cls.SCALLOP
-        cls.doc.recompute()
-        cls.result = None
-
-    @classmethod
-    def tearDownClass(cls):
-        FreeCAD.closeDocument(cls.doc.Name)
-
-    def measured(self):
-        if self.__class__.result is None:
-            self.assertNotIn("Invalid", self.op.State, self.op.getStatusString())
-            self.__class__.result = sim_support.measure(
-                self, self.job, self.op, self.BALL_DIAMETER, spacing=self.SPACING
-            )
-            print(sim_support.describe(self.NAME, self.op, self.__class__.result))
-        return self.__class__.result
-
-    def check_measured(self):
-        sim_support.check_measured(self, self.NAME, self.op, self.measured())
-
-    def check_left(self):
-        sim_support.assert_left_within_stated(self, self.NAME, self.op, self.measured())
-
-    def check_overcut(self):
-        sim_support.assert_overcut_within_stated(self, self.NAME, self.op, self.measured())
-
-
-class MatPieceTest(_Measured):
-    NAME, SHAPE = "MATPiece", staticmethod(mat_piece)
+class MatPieceTest(sim_support.MeasuredJob):
+    NAME, SHAPE = "MATPiece", staticmethod(sim_support.mat_piece)
     BALL_DIAMETER, SCALLOP, SPACING = 6.0, 0.01, 0.03
 
-    def test_measured(self):
-        self.check_measured()
 
-    def test_left_within_stated(self):
-        self.check_left()
-
-    def test_overcut_within_stated(self):
-        self.check_overcut()
-
-
-class BallTest(_Measured):
+class BallTest(sim_support.MeasuredJob):
     NAME, SHAPE = "Ball", staticmethod(lambda: support.load_shape("Ball.brep"))
     BALL_DIAMETER, SCALLOP, SPACING = 2.0, 0.05, 0.05
 
-    def test_measured(self):
-        self.check_measured()
 
-    def test_left_within_stated(self):
-        self.check_left()
-
-    def test_overcut_within_stated(self):
-        self.check_overcut()
-
-
-class Shell1Test(_Measured):
+class Shell1Test(sim_support.MeasuredJob):
     NAME, SHAPE = "Shell1", staticmethod(lambda: support.load_shape("shell1.brep"))
     BALL_DIAMETER, SCALLOP, SPACING = 4.0, 0.01, 0.04
-
-    def test_measured(self):
-        self.check_measured()
-
-    def test_left_within_stated(self):
-        self.check_left()
-
-    def test_overcut_within_stated(self):
-        self.check_overcut()
 
 
 class FaceNumberingTest(unittest.TestCase):
@@ -189,8 +97,6 @@ class FaceNumberingTest(unittest.TestCase):
     def test_shell1(self):
         self.check("shell1.brep", 0.05)
 
-
-del _Measured  # the base holds no test of its own
 
 if __name__ == "__main__":
     unittest.main()
