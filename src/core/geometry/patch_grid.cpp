@@ -306,7 +306,76 @@ PiecewiseBezier PatchGrid::iso_v(double v) const {
   return c;
 }
 
-gp_Pnt PatchGrid::eval(double u, double v) const { return d1(u, v).p; }
+namespace {
+// The Bernstein basis of degree n at t into b[0..n] and its derivative's
+// weights into db[0..n]: sum_k b[k] P_k is the Bezier curve of P_0..P_n at
+// t, sum_k db[k] P_k its derivative in t (n (P_{k+1} - P_k) weighted by the
+// basis of degree n - 1). The basis is built up by the recurrence
+// B_k^j = (1 - t) B_k^{j-1} + t B_{k-1}^{j-1}: convex combinations, as
+// stable as de Casteljau's, without its triangle of points.
+template <std::size_t N>
+void bernstein(int n, double t, std::array<double, N>* b, std::array<double, N>* db) {
+  auto& B = *b;
+  B[0] = 1.0;
+  for (int j = 1; j < n; ++j) {
+    double carry = 0.0;
+    for (int k = 0; k < j; ++k) {
+      const double x = B[static_cast<std::size_t>(k)];
+      B[static_cast<std::size_t>(k)] = carry + (1 - t) * x;
+      carry = t * x;
+    }
+    B[static_cast<std::size_t>(j)] = carry;
+  }
+  // B holds degree n - 1 (or 0 when n = 0): the derivative's weights, then
+  // one step more.
+  if (db) {
+    auto& D = *db;
+    for (int k = 0; k <= n; ++k)
+      D[static_cast<std::size_t>(k)] = n * ((k > 0 ? B[static_cast<std::size_t>(k) - 1] : 0.0) -
+                                            (k < n ? B[static_cast<std::size_t>(k)] : 0.0));
+  }
+  if (n > 0) {
+    double carry = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double x = B[static_cast<std::size_t>(k)];
+      B[static_cast<std::size_t>(k)] = carry + (1 - t) * x;
+      carry = t * x;
+    }
+    B[static_cast<std::size_t>(n)] = carry;
+  }
+}
+
+H4 axpy(const H4& acc, double s, const H4& p) {
+  return {acc.x + s * p.x, acc.y + s * p.y, acc.z + s * p.z, acc.w + s * p.w};
+}
+}  // namespace
+
+gp_Pnt PatchGrid::eval(double u, double v) const {
+  if (pu_ <= 3 && pv_ <= 3) return eval_in<4>(u, v);
+  if (pu_ <= 9 && pv_ <= 9) return eval_in<10>(u, v);
+  return d1(u, v).p;
+}
+
+template <std::size_t N>
+gp_Pnt PatchGrid::eval_in(double u, double v) const {
+  const int i = find_span(ub_, u), j = find_span(vb_, v);
+  const double s = (u - ub_[static_cast<std::size_t>(i)]) /
+                   (ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)]);
+  const double t = (v - vb_[static_cast<std::size_t>(j)]) /
+                   (vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)]);
+  std::array<double, N> bu, bv;
+  bernstein<N>(pu_, s, &bu, nullptr);
+  bernstein<N>(pv_, t, &bv, nullptr);
+  const H4* p = patch(i, j);
+  H4 A{0, 0, 0, 0};
+  for (int b = 0; b <= pv_; ++b) {
+    H4 row{0, 0, 0, 0};
+    for (int a = 0; a <= pu_; ++a)
+      row = axpy(row, bu[static_cast<std::size_t>(a)], p[a + (pu_ + 1) * b]);
+    A = axpy(A, bv[static_cast<std::size_t>(b)], row);
+  }
+  return project(A);
+}
 
 SurfaceDerivs PatchGrid::d1(double u, double v) const {
   return d1_on_span(find_span(ub_, u), u, v);
@@ -319,24 +388,25 @@ SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
   const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
   const double s = (u - ub_[static_cast<std::size_t>(i)]) / du;
   const double t = (v - vb_[static_cast<std::size_t>(j)]) / dv;
+  std::array<double, N> bu, dbu, bv, dbv;
+  bernstein<N>(pu_, s, &bu, &dbu);
+  bernstein<N>(pv_, t, &bv, &dbv);
   const H4* p = patch(i, j);
-  // Columns in v: value and v-derivative at t, then the same in u.
-  std::array<H4, N> q, qv, col, dcol;
-  for (int a = 0; a <= pu_; ++a) {
-    for (int b = 0; b <= pv_; ++b) col[static_cast<std::size_t>(b)] = p[a + (pu_ + 1) * b];
-    for (int b = 0; b < pv_; ++b)
-      dcol[static_cast<std::size_t>(b)] =
-          (col[static_cast<std::size_t>(b) + 1] - col[static_cast<std::size_t>(b)]) * pv_;
-    q[static_cast<std::size_t>(a)] = casteljau(col.data(), pv_, t);
-    qv[static_cast<std::size_t>(a)] = casteljau(dcol.data(), pv_ - 1, t);
+  // Rows in u first (value and u-derivative), then combined in v.
+  H4 A{0, 0, 0, 0}, Au{0, 0, 0, 0}, Av{0, 0, 0, 0};
+  for (int b = 0; b <= pv_; ++b) {
+    H4 row{0, 0, 0, 0}, row_u{0, 0, 0, 0};
+    for (int a = 0; a <= pu_; ++a) {
+      const H4& q = p[a + (pu_ + 1) * b];
+      row = axpy(row, bu[static_cast<std::size_t>(a)], q);
+      row_u = axpy(row_u, dbu[static_cast<std::size_t>(a)], q);
+    }
+    A = axpy(A, bv[static_cast<std::size_t>(b)], row);
+    Au = axpy(Au, bv[static_cast<std::size_t>(b)], row_u);
+    Av = axpy(Av, dbv[static_cast<std::size_t>(b)], row);
   }
-  std::array<H4, N> dq;
-  for (int a = 0; a < pu_; ++a)
-    dq[static_cast<std::size_t>(a)] =
-        (q[static_cast<std::size_t>(a) + 1] - q[static_cast<std::size_t>(a)]) * pu_;
-  const H4 A = casteljau(q.data(), pu_, s);
-  const H4 Au = casteljau(dq.data(), pu_ - 1, s) * (1.0 / du);
-  const H4 Av = casteljau(qv.data(), pu_, s) * (1.0 / dv);
+  Au = Au * (1.0 / du);
+  Av = Av * (1.0 / dv);
   SurfaceDerivs d;
   d.p = project(A);
   const gp_Vec P(d.p.X(), d.p.Y(), d.p.Z());

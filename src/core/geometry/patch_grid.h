@@ -114,6 +114,8 @@ class PatchGrid {
   void finish();
   template <std::size_t N>
   SurfaceDerivs d1_in(int i, double u, double v) const;
+  template <std::size_t N>
+  gp_Pnt eval_in(double u, double v) const;
 
   int pu_ = 0, pv_ = 0;
   bool rational_ = false;
