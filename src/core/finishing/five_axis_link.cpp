@@ -65,7 +65,7 @@ struct Angles {
 class Linker {
  public:
   explicit Linker(const LinkContext& ctx)
-      : c_(ctx), p_(ctx.p), margin_(0.5 * ctx.p.air_clearance), ac_(ctx.p.a_min, ctx.p.a_max) {}
+      : c_(ctx), p_(ctx.p), margin_(ctx.p.air_clearance), ac_(ctx.p.a_min, ctx.p.a_max) {}
 
   Linked run(const std::vector<std::vector<ToolPose>>& runs) {
     // The retracts along the axis at both ends of each run that let the
@@ -253,7 +253,7 @@ class Linker {
 
   const LinkContext& c_;
   const FiveAxisParams& p_;
-  double margin_;  // what every link keeps from the model
+  double margin_;  // what every link keeps from the model: the air clearance
   AcTracker ac_;   // at the last move added
   Linked out_;
 };

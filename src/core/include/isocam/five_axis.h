@@ -85,20 +85,22 @@
 // along its start axis over the air clearance and left by a rapid retract
 // along its end axis. Between two consecutive runs the link is LOW where
 // that is proven clear and estimated quicker: retract by a lift d (the air
-// clearance, doubled until clear, then halved back twice by bisection),
-// one rapid to the next start's tip + d axis with A and C linear (as the
-// machine interpolates them), down the axis to the approach point. The
-// whole tool (the cylinder of radius R up to tool_length) is proven to keep
-// margin = air_clearance / 2 from the model along the link: it is checked
-// at positions so close that no point of the tool moves more than the
-// margin between two, each with the margin and a half. Otherwise (no lift
-// up to 32 x the air clearance is clear, the link is longer than 5 tool
-// diameters, or the hop is estimated no slower) the run is left to the
-// safe height and the next entered from there: both ends of that move are
-// at the safe height with the axis pointing up (A <= 90 degrees), so the
-// tool is above the model. Link moves are rapids: the machine must move G0
-// straight with A and C linear under TCP, as the check assumes (else set
-// low_links false).
+// clearance, doubled until clear, then lowered by two bisection steps
+// towards the last lift that failed), one rapid to the next start's tip +
+// d axis with A and C linear (as the machine interpolates them), down that
+// axis to the approach point. Along that rapid the whole tool (the
+// cylinder of radius R up to tool_length) is proven to keep the air
+// clearance from the model: it is checked at positions so close that no
+// point of the tool moves more than the air clearance between two, each
+// with 1.5 x the air clearance. The retract and the descent along the axis
+// are checked as the hops' are (the shank capsule over their length).
+// Otherwise (no lift up to 32 x the air clearance is clear, the link is
+// longer than 5 tool diameters, or the hop is estimated no slower) the run
+// is left to the safe height and the next entered from there: both ends of
+// that move are at the safe height with the axis pointing up (A <= 90
+// degrees), so the tool is above the model. Link moves are rapids: the
+// machine must move G0 straight with A and C linear under TCP, as the
+// check assumes (else set low_links false).
 //
 // The guarantees (stated, and measured by the tests from outside). Let c
 // be the chord tolerance, p = sqrt(3)/2 x posted_resolution, and g the
