@@ -1,11 +1,11 @@
 // 5-axis strip finishing's links (isocam/five_axis.h, "Links"): on the
-// tilted top of a box, several passes linked low against the same passes
-// linked through the safe height: fewer trips up there, less machine time,
-// the same cutting; every rapid swept by a check that shares nothing with
-// the core (the tool a cylinder, the model's faces sampled from
-// OpenCASCADE) cuts nothing, and the low links keep the margin they state;
-// the machine time recomputed from the posted moves with the rotary axes
-// timed.
+// tilted top of a box beside a tower (which sets the safe height), several
+// passes linked low against the same passes linked through the safe
+// height: fewer trips up there, less machine time, the same cutting; every
+// rapid swept by a check that shares nothing with the core (the tool a
+// cylinder, the model's faces sampled from OpenCASCADE) cuts nothing, and
+// the low links keep the air clearance they state; the machine time
+// recomputed from the posted moves with the rotary axes timed.
 #include <gtest/gtest.h>
 
 #include <BRepAdaptor_Surface.hxx>
