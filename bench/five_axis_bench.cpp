@@ -2,8 +2,11 @@
 // 13): a 6 mm flat end tilted by the default lead (5 degrees) against a 6 mm
 // ball end (ConstantScallop and Adaptive patterns), on the Figure 2 ruled
 // surface, the hill of the house on the hill and MAT: compute time, cutting
-// length, number of paths, machine time (tip moves at the rates; the 5-axis
-// rotary moves are not timed), the guarantees and the rotary travel.
+// length, number of paths, machine time (tip moves at the rates, the 5-axis
+// rotary moves at FiveAxisParams::rotary_rate), the guarantees and the
+// rotary travel; the 5-axis op with its low links and with every run left
+// through the safe height, side by side (a second table: the links, and the
+// machine time with and without the rotary timing).
 // Usage: isocam_five_axis_bench SOURCE_DIR [CASE]  (writes
 // bench/five_axis_results.md; CASE: only that case, 0-based, to
 // bench/five_axis_results_CASE.md)
@@ -80,6 +83,9 @@ int main(int argc, char** argv) {
        "(min) "
        "| guaranteed scallop / overcut (mm) | unreachable (mm) | rotary travel A / C (deg) |\n";
   t << "|---|---|---|---|---|---|---|---|---|\n";
+  std::ostringstream links;
+  links << "\n| model | 5-axis linking | low links / safe-height hops | rapid (mm) | machine time "
+           "(min) | without the rotary timing (min) |\n|---|---|---|---|---|---|\n";
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
     if (only >= 0 && static_cast<std::size_t>(only) != ci) continue;
     const Case& c = cases[ci];
@@ -94,17 +100,27 @@ int main(int argc, char** argv) {
       std::cout << c.name << " / " << tool << ": " << num(secs, 2) << " s, cutting " << num(cut, 0)
                 << " mm, machine " << num(machine / 60, 1) << " min" << std::endl;
     };
-    {
+    // The 5-axis runs: low links (the default), then every run through the
+    // safe height (the linking before issue 13's low links); machine time
+    // with the rotary moves timed, and without (tip moves only, as before).
+    for (bool low : {true, false}) {
       FiveAxisParams p;
       p.scallop_height = c.h;
+      p.low_links = low;
       const auto t0 = std::chrono::steady_clock::now();
       const FiveAxisResult r = five_axis_finish(shape, faces, p);
       const double secs =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const FiveAxisMetrics& m = r.metrics;
-      row("5-axis flat end 6 mm, lead 5 deg", secs, m.cutting_length, m.paths, m.machine_time,
-          m.cutting_time, m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length,
+      const std::string label =
+          std::string("5-axis flat end 6 mm, lead 5 deg, ") + (low ? "low links" : "safe height");
+      row(label, secs, m.cutting_length, m.paths, m.machine_time, m.cutting_time,
+          m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length,
           num(m.rotary_travel_a, 0) + " / " + num(m.rotary_travel_c, 0));
+      const PathTimes tip = estimate_time(r.path, p.feed_rate, p.plunge_rate, p.rapid_rate);
+      links << "| " << c.name << " | " << (low ? "low links" : "safe height") << " | "
+            << m.low_links << " / " << m.safe_hops << " | " << num(m.rapid_length, 0) << " | "
+            << num(m.machine_time / 60, 2) << " | " << num(tip.total / 60, 2) << " |\n";
       for (const std::string& w : r.warnings) std::cout << "  warning: " << w << "\n";
     }
     for (IsoPattern pat : {IsoPattern::ConstantScallop, IsoPattern::Adaptive}) {
@@ -126,7 +142,7 @@ int main(int argc, char** argv) {
   }
   std::ofstream(root + "/bench/five_axis_results" +
                 (only >= 0 ? "_" + std::to_string(only) : std::string()) + ".md")
-      << t.str();
-  std::cout << t.str();
+      << t.str() << links.str();
+  std::cout << t.str() << links.str();
   return 0;
 }

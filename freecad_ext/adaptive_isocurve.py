@@ -539,14 +539,15 @@ def _rapid_mm_min(obj):
     return float(obj.RapidRate)  # mm/min
 
 
-def machine_seconds(commands, rapid, feed, plunge):
+def machine_seconds(commands, rapid, feed, plunge, rotary=None):
     """Estimated time (s) of Path commands, no acceleration: G0 at `rapid`,
     G1/G2/G3 at their F word (mm/s, FreeCAD's unit; `feed` / `plunge` in
     mm/min where a move has none and is horizontal / vertical), arcs by
-    their chord. The first two moves (from wherever the machine is, up and
-    across at ClearanceHeight) are not counted, as the core does not count
-    its first move."""
-    pos = None
+    their chord. With `rotary` (deg/min), a move takes at least |dA| and
+    |dC| at that rate (the 5-axis op's A and C words). The first two moves
+    (from wherever the machine is, up and across at ClearanceHeight) are not
+    counted, as the core does not count its first move."""
+    pos = ang = None
     total = 0.0
     moves = 0
     for c in commands:
@@ -555,6 +556,7 @@ def machine_seconds(commands, rapid, feed, plunge):
             continue
         moves += 1
         nxt = tuple(p.get(a, pos[i] if pos else 0.0) for i, a in enumerate("XYZ"))
+        nxt_ang = tuple(p.get(a, ang[i] if ang else 0.0) for i, a in enumerate("AC"))
         if pos is not None and moves > 2:
             length = math.dist(pos, nxt)
             if c.Name in ("G0", "G00"):
@@ -563,8 +565,12 @@ def machine_seconds(commands, rapid, feed, plunge):
                 rate = p["F"] * 60.0
             else:
                 rate = plunge if pos[:2] == nxt[:2] else feed
-            total += 60.0 * length / rate
-        pos = nxt
+            minutes = length / rate
+            if rotary:
+                turn = max(abs(nxt_ang[0] - ang[0]), abs(nxt_ang[1] - ang[1]))
+                minutes = max(minutes, turn / rotary)
+            total += 60.0 * minutes
+        pos, ang = nxt, nxt_ang
     return total
 
 

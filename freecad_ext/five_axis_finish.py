@@ -158,6 +158,24 @@ _DEFINITIONS = (
             "Rapid rate in mm/min for MachineTime.",
         ),
     ),
+    (
+        "App::PropertyFloat",
+        "RotaryRate",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Speed of the A and C axes in deg/min for MachineTime (and the choice of links).",
+        ),
+    ),
+    (
+        "App::PropertyBool",
+        "LowLinks",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Link consecutive passes low, along a rapid proven clear of the model, where "
+            "quicker than through SafeHeight. Needs G0 moved straight with A and C linear "
+            "under TCP; turn off for machines that do not.",
+        ),
+    ),
 )
 
 _DEFAULTS = {
@@ -173,6 +191,8 @@ _DEFAULTS = {
     "PostPrecision": 3,
     "AirClearance": 1.0,
     "RapidRate": 5000.0,
+    "RotaryRate": 3600.0,
+    "LowLinks": True,
 }
 
 _OUTPUTS = (
@@ -257,7 +277,8 @@ _OUTPUTS = (
         "machine_time",
         QT_TRANSLATE_NOOP(
             "App::Property",
-            "Estimated time (s) of the tip moves at the feeds and RapidRate (rotary moves not timed)",
+            "Estimated time (s): each move at its feed or RapidRate, and at least its A and C "
+            "turns at RotaryRate",
         ),
     ),
 )
@@ -278,6 +299,7 @@ _ARGUMENT_SOURCES = (
     ),
     ("air_clearance", "property AirClearance"),
     ("rapid_rate", "property RapidRate"),
+    ("rotary_rate", "property RotaryRate"),
     ("posted_resolution", "property PostPrecision"),
     ("safe_z", "property SafeHeight"),
 )
@@ -331,7 +353,10 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         metrics = _combined(results)
         final = [Path.Command("G0", {"Z": clearance})]
         metrics["machine_time"] = machine_seconds(
-            self.commandlist + final, float(obj.RapidRate), *_feeds(obj)
+            self.commandlist + final,
+            float(obj.RapidRate),
+            *_feeds(obj),
+            rotary=float(obj.RotaryRate)
         )
         op_base.write_outputs(obj, _OUTPUTS, metrics)
         log.info(
@@ -440,6 +465,8 @@ def _params(obj, core, radius, corner=0.0):
     p.air_clearance = obj.AirClearance.Value
     p.feed_rate, p.plunge_rate = _feeds(obj)
     p.rapid_rate = float(obj.RapidRate)
+    p.rotary_rate = float(obj.RotaryRate)
+    p.low_links = bool(obj.LowLinks)
     p.safe_z = obj.SafeHeight.Value
     p.max_moves = op_base.max_moves(obj)
     return p
@@ -497,6 +524,8 @@ def SetupProperties():
         "Direction",
         "AirClearance",
         "RapidRate",
+        "RotaryRate",
+        "LowLinks",
     ]
 
 

@@ -70,9 +70,12 @@ void bind_five_axis(py::module_& m) {
       .def_readwrite("direction", &FiveAxisParams::direction)
       .def_readwrite("safe_z", &FiveAxisParams::safe_z)
       .def_readwrite("air_clearance", &FiveAxisParams::air_clearance)
+      .def_readwrite("low_links", &FiveAxisParams::low_links,
+                     "links between runs kept low where proven clear and quicker")
       .def_readwrite("feed_rate", &FiveAxisParams::feed_rate, "mm/min")
       .def_readwrite("plunge_rate", &FiveAxisParams::plunge_rate, "mm/min")
       .def_readwrite("rapid_rate", &FiveAxisParams::rapid_rate, "mm/min")
+      .def_readwrite("rotary_rate", &FiveAxisParams::rotary_rate, "deg/min (A and C)")
       .def_readwrite("protect_unpicked_faces", &FiveAxisParams::protect_unpicked_faces)
       .def_readwrite("max_moves", &FiveAxisParams::max_moves);
 
@@ -94,7 +97,9 @@ void bind_five_axis(py::module_& m) {
       .def_readonly("max_lead_used", &FiveAxisMetrics::max_lead_used, "degrees")
       .def_readonly("lead_raised_points", &FiveAxisMetrics::lead_raised_points)
       .def_readonly("paths", &FiveAxisMetrics::paths)
-      .def_readonly("retracts", &FiveAxisMetrics::retracts);
+      .def_readonly("retracts", &FiveAxisMetrics::retracts)
+      .def_readonly("low_links", &FiveAxisMetrics::low_links)
+      .def_readonly("safe_hops", &FiveAxisMetrics::safe_hops);
 
   py::class_<PyFiveAxisResult>(m, "FiveAxisResult")
       .def_readonly("kind", &PyFiveAxisResult::kind, "uint8 (N,): RAPID, FEED, PLUNGE")

@@ -6,9 +6,9 @@ STRAIGHT_TRAVERSE / STRAIGHT_FEED canonical calls with x y z a b c); the
 tool is a flat end of radius R and length L, or a bull nose of corner
 radius rc, the tip (x, y, z) the centre of its bottom face, its axis
 relative to the part (sin A sin C, -sin A cos C, cos A) as the op
-documents. Each feed move is swept as the machine with TCP moves: tip and
-A, C interpolated linearly, at steps of at most `step` mm of tip travel and
-`angle_step` degrees. Each tool instance is an oriented cylinder (the disc
+documents. Each feed move (and, apart, each rapid) is swept as the machine
+with TCP moves: tip and A, C interpolated linearly, at steps of at most
+`step` mm of tip travel and `angle_step` degrees. Each tool instance is an oriented cylinder (the disc
 of the bottom and the shank above it); a bull nose's is the cylinder from
 rc up and, below, its corner: the solid torus (tube radius rc, its circle of
 centres of radius R - rc at rc above the tip) and the disc that fills it
@@ -49,13 +49,14 @@ def axis_of(a_deg, c_deg):
     return np.stack([np.sin(a) * np.sin(c), -np.sin(a) * np.cos(c), np.cos(a)], axis=-1)
 
 
-def tool_instances(moves, step=0.02, angle_step=0.25):
-    """(tips (M,3), axes (M,3)) of the tool along the feed moves (G1)."""
+def tool_instances(moves, step=0.02, angle_step=0.25, kind_swept="G1"):
+    """(tips (M,3), axes (M,3)) of the tool along the moves of one kind: the
+    feed moves (G1, what cuts) or the rapids (G0, which must cut nothing)."""
     tips, angles = [], []
     prev = None
     for kind, x, y, z, a, c in moves:
         cur = np.array([x, y, z, a, c])
-        if kind == "G1" and prev is not None:
+        if kind == kind_swept and prev is not None:
             dist = np.linalg.norm(cur[:3] - prev[:3])
             turn = max(abs(cur[3] - prev[3]), abs(cur[4] - prev[4]))
             n = max(1, int(math.ceil(max(dist / step, turn / angle_step))))

@@ -43,6 +43,12 @@ SPACING = 0.12
 OVER_SPACING = 0.2
 
 
+# The rapids are swept coarser (they only need to cut nothing): a rapid
+# through the face is seen at any of these steps.
+RAPID_STEP = 0.1
+RAPID_ANGLE = 1.0
+
+
 def sim_left(op):
     return 0.5 * STEP * math.tan(math.radians(op.MaxLeadUsed)) + 0.0002
 
@@ -52,6 +58,20 @@ def tilted_plane():
     box = Part.makeBox(10, 10, 6, V(-5, -5, -6))
     box.rotate(V(0, 0, 0), V(1, 0, 0), 15)
     return box
+
+
+def tilted_plane_and_tower():
+    """tilted_plane() and, 11 mm beside it, a tower up to z = 20, which sets
+    the safe height: the hops between passes go up there, the low links not."""
+    tower = Part.makeBox(4, 4, 26, V(16, -2, -6))
+    return Part.makeCompound([tilted_plane(), tower])
+
+
+def tilted_top(shape):
+    """1-based index of the highest face whose normal is tilted_plane()'s top's."""
+    up = V(0, -math.sin(math.radians(15)), math.cos(math.radians(15)))
+    faces = [i for i, f in enumerate(shape.Faces) if f.normalAt(0, 0).sub(up).Length < 1e-6]
+    return 1 + max(faces, key=lambda i: shape.Faces[i].CenterOfMass.z)
 
 
 def cylinder_patch():
@@ -167,10 +187,21 @@ class FiveAxisFinishTest(unittest.TestCase):
         left, _ = check.measure(pts, nrm, tips, axes, 3.0, op.ToolLength.Value, corner=corner)
         pts0, nrm0 = check.sample_face(face, OVER_SPACING, 0.0)
         _, over = check.measure(pts0, nrm0, tips, axes, 3.0, op.ToolLength.Value, corner=corner)
+        # The rapids swept apart, the whole tool (reach: its far rim at the
+        # top): none may cut the face (a retract starts where the tool
+        # touches it, within the overcut).
+        g0_tips, g0_axes = check.tool_instances(
+            moves, step=RAPID_STEP, angle_step=RAPID_ANGLE, kind_swept="G0"
+        )
+        length = op.ToolLength.Value
+        _, rapid_over = check.measure(
+            pts0, nrm0, g0_tips, g0_axes, 3.0, length, reach=math.hypot(3.0, length), corner=corner
+        )
         reached = left[left < math.inf]
         print(
             "%s: %d samples, %d reached; left max %.5f (guaranteed %.5f), overcut max %.5f "
-            "(guaranteed %.5f); strip %.3f mm, %d passes, cutting %.1f mm, lead up to %.1f deg"
+            "(guaranteed %.5f); rapids: %d instances, overcut max %.5f; strip %.3f mm, "
+            "%d passes, cutting %.1f mm, lead up to %.1f deg, machine time %.1f s"
             % (
                 name,
                 len(left),
@@ -179,10 +210,13 @@ class FiveAxisFinishTest(unittest.TestCase):
                 op.GuaranteedScallop.Value,
                 over.max(),
                 op.GuaranteedOvercut.Value,
+                len(g0_tips),
+                rapid_over.max(),
                 op.StripWidth.Value,
                 op.Passes,
                 op.CuttingLength.Value,
                 op.MaxLeadUsed,
+                op.MachineTime,
             )
         )
         # Every sample of the face (away from its edges) is reached ...
@@ -191,6 +225,7 @@ class FiveAxisFinishTest(unittest.TestCase):
         self.assertLessEqual(op.GuaranteedScallop.Value, op.ScallopHeight.Value + 1e-9)
         self.assertLessEqual(reached.max(), op.GuaranteedScallop.Value + sim_left(op))
         self.assertLessEqual(over.max(), op.GuaranteedOvercut.Value + SIM_OVER)
+        self.assertLessEqual(rapid_over.max(), op.GuaranteedOvercut.Value + SIM_OVER, "a G0 cuts")
         return built, op, left, over
 
     def test_tilted_plane(self):
@@ -210,6 +245,21 @@ class FiveAxisFinishTest(unittest.TestCase):
         expected_figures.check(
             self, "FiveAxisFinish/Tilted", "left_over_scallop", left.max() / op.ScallopHeight.Value
         )
+
+    def test_low_links_beside_a_tower(self):
+        """The passes linked low (LowLinks) where the safe height is far above:
+        the rapids swept from the posted program cut nothing (run_case), and
+        against LowLinks off the rapid travel and MachineTime drop."""
+        built, op, _left, _over = self.run_case("Tower", tilted_plane_and_tower(), tilted_top)
+        low = (op.RapidLength.Value, op.MachineTime)
+        op.LowLinks = False
+        built.doc.recompute()
+        hop = (op.RapidLength.Value, op.MachineTime)
+        print(
+            "Tower: rapid %.1f mm, machine time %.1f s; LowLinks off: %.1f mm, %.1f s" % (low + hop)
+        )
+        self.assertLess(low[0], 0.5 * hop[0])
+        self.assertLess(low[1], hop[1])
 
     def test_ball_end_refused_by_name(self):
         built = Built("FiveBall", tilted_plane())

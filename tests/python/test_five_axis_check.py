@@ -2,7 +2,8 @@
 in plain Python: the intervals where random lines meet a flat end and a bull
 nose against a brute-force membership test of points along each line (the
 flat end: inside the cylinder; the bull nose: the cylinder of radius R from
-rc up, or within rc of the core disc of radius R - rc at rc above the tip).
+rc up, or within rc of the core disc of radius R - rc at rc above the tip);
+and that a rapid through the face reads as an overcut.
 """
 
 import os
@@ -55,6 +56,25 @@ class LinesThroughTheTool(unittest.TestCase):
                 wrong += int((got != truth).sum() > 2)
             self.assertGreater(met, 25, corner)  # the lines do meet the tool
             self.assertEqual(wrong, 0, corner)
+
+
+class RapidsSweptApart(unittest.TestCase):
+    def test_a_rapid_through_the_face_is_an_overcut(self):
+        """The rapids are swept apart from the feeds (kind_swept="G0"): a G0
+        across a plane with the tool's bottom 0.2 mm below it reads an
+        overcut of 0.2 mm, one 0.2 mm above it none; the feed sweep does not
+        see the rapid."""
+        # The plane z = 0 sampled every 0.2 mm over 10 x 10 mm, normal up.
+        g = np.arange(-5.0, 5.0001, 0.2)
+        pts = np.array([(x, y, 0.0) for x in g for y in g])
+        nrm = np.tile([0.0, 0.0, 1.0], (len(pts), 1))
+        for lift, overcut in ((-0.2, 0.2), (0.2, 0.0)):
+            moves = [("G0", -4.0, -4.0, lift, 0.0, 0.0), ("G0", 4.0, 3.0, lift, 0.0, 90.0)]
+            tips, axes = check.tool_instances(moves, step=0.1, angle_step=1.0, kind_swept="G0")
+            _, over = check.measure(pts, nrm, tips, axes, R, LENGTH, reach=np.hypot(R, LENGTH))
+            self.assertAlmostEqual(over.max(), overcut, places=9, msg="lift %g" % lift)
+            feeds, _ = check.tool_instances(moves, step=0.1, angle_step=1.0)
+            self.assertEqual(len(feeds), 0)
 
 
 if __name__ == "__main__":

@@ -3,7 +3,8 @@
 // tilted flat end's strip width (trace_face), measure the certificate on
 // them, clip them to the trimmed face and zig-zag (clip_face), pose the
 // tool along them with the gouge and shank checks (pose_runs); then link
-// all runs (link_runs) and give the rotary angles (axes_to_ac).
+// all runs (link_runs, finishing/five_axis_link.cpp) and give the rotary
+// angles (axes_to_ac).
 #include "isocam/five_axis.h"
 
 #include <BRepBndLib.hxx>
@@ -18,6 +19,7 @@
 
 #include "finishing/coverage.h"
 #include "finishing/face_failure.h"
+#include "finishing/five_axis_link.h"
 #include "finishing/five_axis_tool.h"
 #include "finishing/scallop_front.h"
 #include "geometry/clearance.h"
@@ -73,6 +75,8 @@ void validate(const FiveAxisParams& p) {
           "> 0 mm/min");
   require(std::isfinite(p.rapid_rate) && p.rapid_rate > 0, "rapid_rate", p.rapid_rate,
           "> 0 mm/min");
+  require(std::isfinite(p.rotary_rate) && p.rotary_rate > 0, "rotary_rate", p.rotary_rate,
+          "> 0 deg/min");
   check_max_moves(p.max_moves);
 }
 
@@ -106,9 +110,9 @@ struct Job {
     return EdgeProfile(c, tool, lead_at(f.kappa_feed, f.kappa_across), tilt, f.kappa_across);
   }
   double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
-  bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis, double extra = 0.0) const {
-    return model->clear(tip.Translated(axis * p.tool_radius),
-                        tip.Translated(axis * (p.tool_length + extra)), shank_clear);
+  bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis) const {
+    return model->clear(tip.Translated(axis * p.tool_radius), tip.Translated(axis * p.tool_length),
+                        shank_clear);
   }
 };
 
@@ -398,68 +402,6 @@ class Poser {
   const Job& job_;
 };
 
-// Phase 4: the runs linked. Per run: a rapid at the safe height to above
-// the approach point, down to it (the approach point on the start's axis,
-// as far out as makes the descent clear), a fed entry along the axis over
-// the air clearance, the run fed, a retract along the axis, up to the safe
-// height. Both ends of the move between runs are at the safe height with
-// the axis pointing up (A <= 90 degrees), so the whole tool is above the
-// model there.
-struct Linked {
-  Toolpath path;
-  std::vector<gp_Vec> axis;
-  int dropped = 0;
-  double dropped_length = 0;
-};
-
-Linked link_runs(const std::vector<std::vector<Posed>>& runs, const Job& job, double safe_z) {
-  Linked out;
-  auto add = [&](MoveKind k, const gp_Pnt& q, const gp_Vec& a) {
-    out.path.add(k, q.X(), q.Y(), q.Z());
-    out.axis.push_back(a);
-  };
-  // The retract along `a` from q that lets the tool go straight up to the
-  // safe height clear of the model; false if none up to the safe height.
-  auto retract = [&](const gp_Pnt& q, const gp_Vec& a, gp_Pnt* r) {
-    const double air = job.p.air_clearance;
-    for (double d = air;; d *= 2) {
-      *r = q.Translated(a * d);
-      const bool top = r->Z() >= safe_z;
-      if (job.capsule_clear(q, a, d)) {
-        if (top) return true;
-        const gp_Pnt up(r->X(), r->Y(), safe_z);
-        bool clear = true;
-        for (double s :
-             {job.p.tool_radius, 0.5 * (job.p.tool_radius + job.p.tool_length), job.p.tool_length})
-          clear = clear &&
-                  job.model->clear(r->Translated(a * s), up.Translated(a * s), job.shank_clear);
-        if (clear) return true;
-      }
-      if (top || d > 1e4) return false;
-    }
-  };
-  for (const std::vector<Posed>& run : runs) {
-    const Posed &s = run.front(), &e = run.back();
-    gp_Pnt rs, re;
-    if (!retract(s.pose.tip, s.pose.axis, &rs) || !retract(e.pose.tip, e.pose.axis, &re)) {
-      ++out.dropped;
-      for (std::size_t k = 1; k < run.size(); ++k)
-        out.dropped_length += run[k - 1].pose.tip.Distance(run[k].pose.tip);
-      continue;
-    }
-    add(MoveKind::Rapid, gp_Pnt(rs.X(), rs.Y(), std::max(safe_z, rs.Z())), s.pose.axis);
-    if (rs.Z() < safe_z) add(MoveKind::Rapid, rs, s.pose.axis);
-    const gp_Pnt approach = s.pose.tip.Translated(s.pose.axis * job.p.air_clearance);
-    if (approach.Distance(rs) > 1e-9) add(MoveKind::Rapid, approach, s.pose.axis);
-    add(MoveKind::Plunge, s.pose.tip, s.pose.axis);
-    for (std::size_t k = 1; k < run.size(); ++k)
-      add(MoveKind::Feed, run[k].pose.tip, run[k].pose.axis);
-    add(MoveKind::Rapid, re, e.pose.axis);
-    if (re.Z() < safe_z) add(MoveKind::Rapid, gp_Pnt(re.X(), re.Y(), safe_z), e.pose.axis);
-  }
-  return out;
-}
-
 void check_faces(const std::vector<int>& faces, std::size_t count) {
   if (faces.empty()) throw InvalidArgument("faces: no face picked");
   std::set<int> seen;
@@ -680,7 +622,15 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   double zmin, zmax, x0, y0, x1, y1;
   box.Get(x0, y0, zmin, x1, y1, zmax);
   const double safe_z = std::max(p.safe_z, zmax + p.air_clearance);
-  Linked linked = link_runs(runs, job, safe_z);
+  std::vector<std::vector<ToolPose>> poses;
+  poses.reserve(runs.size());
+  for (const std::vector<Posed>& r : runs) {
+    poses.emplace_back();
+    for (const Posed& x : r) poses.back().push_back(x.pose);
+  }
+  Linked linked = link_runs(poses, LinkContext{p, model, job.shank_clear, safe_z});
+  m.low_links = linked.low_links;
+  m.safe_hops = linked.safe_hops;
   if (linked.dropped > 0) {
     m.unreachable_length += linked.dropped_length;
     result.warnings.push_back(std::to_string(linked.dropped) +
@@ -696,7 +646,7 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   std::vector<char> ok;
   axes_to_ac(result.i, result.j, result.k, p.a_min, p.a_max, &result.a, &result.c, &ok);
   report_lengths(measure(result.path), m);
-  const PathTimes t = estimate_time(result.path, p.feed_rate, p.plunge_rate, p.rapid_rate);
+  const PathTimes t = five_axis_times(result.path, result.a, result.c, p);
   m.machine_time = t.total;
   m.cutting_time = t.feed;
   for (std::size_t k = 1; k < result.a.size(); ++k) {
@@ -710,38 +660,12 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
 void axes_to_ac(const std::vector<double>& i, const std::vector<double>& j,
                 const std::vector<double>& k, double a_min, double a_max, std::vector<double>* a,
                 std::vector<double>* c, std::vector<char>* ok) {
-  a->assign(i.size(), 0.0);
-  c->assign(i.size(), 0.0);
-  ok->assign(i.size(), 0);
-  double pa = 0.0, pc = 0.0;
-  bool have = false;
-  for (std::size_t q = 0; q < i.size(); ++q) {
-    const double s = std::hypot(i[q], j[q]);
-    const double A = std::atan2(s, k[q]) / kDegree;
-    const bool vertical = s < 1e-9;
-    const double C = vertical ? pc : std::atan2(i[q], -j[q]) / kDegree;
-    double best = 1e300, ba = 0, bc = 0;
-    for (int branch = 0; branch < 2; ++branch) {
-      const double ca = branch ? -A : A;
-      double cc = branch && !vertical ? C + 180.0 : C;
-      if (ca < a_min - 1e-9 || ca > a_max + 1e-9) continue;
-      if (have) cc += 360.0 * std::round((pc - cc) / 360.0);
-      const double cost = have ? std::abs(ca - pa) + std::abs(cc - pc) : std::abs(ca);
-      if (cost < best) {
-        best = cost;
-        ba = ca;
-        bc = cc;
-      }
-    }
-    if (best < 1e300) {
-      (*ok)[q] = 1;
-      pa = ba;
-      pc = bc;
-      have = true;
-    }
-    (*a)[q] = have ? pa : A;
-    (*c)[q] = have ? pc : C;
-  }
+  a->resize(i.size());
+  c->resize(i.size());
+  ok->resize(i.size());
+  AcTracker t(a_min, a_max);
+  for (std::size_t q = 0; q < i.size(); ++q)
+    (*ok)[q] = t.next(i[q], j[q], k[q], &(*a)[q], &(*c)[q]);
 }
 
 double strip_half_width(double radius, double corner_radius, double lead_deg, double tilt_deg,

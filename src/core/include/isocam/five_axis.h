@@ -81,6 +81,27 @@
 // moves less. Positions whose axis needs A outside the range are left out
 // (unreachable). Coordinates x, y, z are the tip in the part (work) frame.
 //
+// Links (finishing/five_axis_link.h). Each run is entered by a fed move
+// along its start axis over the air clearance and left by a rapid retract
+// along its end axis. Between two consecutive runs the link is LOW where
+// that is proven clear and estimated quicker: retract by a lift d (the air
+// clearance, doubled until clear, then lowered by two bisection steps
+// towards the last lift that failed), one rapid to the next start's tip +
+// d axis with A and C linear (as the machine interpolates them), down that
+// axis to the approach point. Along that rapid the whole tool (the
+// cylinder of radius R up to tool_length) is proven to keep the air
+// clearance from the model: it is checked at positions so close that no
+// point of the tool moves more than the air clearance between two, each
+// with 1.5 x the air clearance. The retract and the descent along the axis
+// are checked as the hops' are (the shank capsule over their length).
+// Otherwise (no lift up to 32 x the air clearance is clear, the link is
+// longer than 5 tool diameters, or the hop is estimated no slower) the run
+// is left to the safe height and the next entered from there: both ends of
+// that move are at the safe height with the axis pointing up (A <= 90
+// degrees), so the tool is above the model. Link moves are rapids: the
+// machine must move G0 straight with A and C linear under TCP, as the
+// check assumes (else set low_links false).
+//
 // The guarantees (stated, and measured by the tests from outside). Let c
 // be the chord tolerance, p = sqrt(3)/2 x posted_resolution, and g the
 // gouge tolerance. Between two posted positions the machine moves the tip
@@ -127,14 +148,21 @@ struct FiveAxisParams {
   IsoDirection direction = IsoDirection::Auto;  // start path: iso-V at vmin, iso-U at umin
   double safe_z = 0.0;         // tip z for moves between passes (raised to clear the model)
   double air_clearance = 1.0;  // mm, > 0: approach and retract along the axis
+  // Low links between consecutive runs where proven clear and quicker than
+  // the hop through the safe height (see "Links" above); false: every run
+  // entered and left through the safe height.
+  bool low_links = true;
   double feed_rate = 1200.0, plunge_rate = 400.0, rapid_rate = 5000.0;  // mm/min, > 0
+  double rotary_rate = 3600.0;  // deg/min, > 0: the A and C speed machine_time assumes
   bool protect_unpicked_faces = true;
   double max_moves = kDefaultMaxMoves;
 };
 
 struct FiveAxisMetrics {
   double cutting_length = 0.0, rapid_length = 0.0, plunge_length = 0.0;  // tip, mm
-  double machine_time = 0.0, cutting_time = 0.0;  // s, tip moves at the rates (rotary not timed)
+  // s: each move at least its tip length at its rate and |dA|, |dC| at the
+  // rotary rate (no acceleration); cutting_time: the feed moves'
+  double machine_time = 0.0, cutting_time = 0.0;
   double rotary_travel_a = 0.0, rotary_travel_c = 0.0;  // sum of |dA|, |dC| over moves (degrees)
   double chord_tolerance = 0.0;                         // used
   double flat_strip_width = 0.0;                        // 2 x_h on flat ground at the lead angle
@@ -145,6 +173,7 @@ struct FiveAxisMetrics {
   double max_lead_used = 0.0;       // degrees
   int lead_raised_points = 0;       // posted positions whose lead was raised
   int paths = 0, retracts = 0;
+  int low_links = 0, safe_hops = 0;  // links between runs: low, or through the safe height
 };
 
 struct FiveAxisResult {
