@@ -351,37 +351,17 @@ H4 axpy(const H4& acc, double s, const H4& p) {
 }  // namespace
 
 gp_Pnt PatchGrid::eval(double u, double v) const {
-  if (pu_ <= 3 && pv_ <= 3) return eval_in<4>(u, v);
-  if (pu_ <= 9 && pv_ <= 9) return eval_in<10>(u, v);
-  return d1(u, v).p;
-}
-
-template <std::size_t N>
-gp_Pnt PatchGrid::eval_in(double u, double v) const {
-  const int i = find_span(ub_, u), j = find_span(vb_, v);
-  const double s = (u - ub_[static_cast<std::size_t>(i)]) /
-                   (ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)]);
-  const double t = (v - vb_[static_cast<std::size_t>(j)]) /
-                   (vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)]);
-  std::array<double, N> bu, bv;
-  bernstein<N>(pu_, s, &bu, nullptr);
-  bernstein<N>(pv_, t, &bv, nullptr);
-  const H4* p = patch(i, j);
-  H4 A{0, 0, 0, 0};
-  for (int b = 0; b <= pv_; ++b) {
-    H4 row{0, 0, 0, 0};
-    for (int a = 0; a <= pu_; ++a)
-      row = axpy(row, bu[static_cast<std::size_t>(a)], p[a + (pu_ + 1) * b]);
-    A = axpy(A, bv[static_cast<std::size_t>(b)], row);
-  }
-  return project(A);
+  const int i = find_span(ub_, u);
+  if (pu_ <= 3 && pv_ <= 3) return d1_in<4, false>(i, u, v).p;
+  if (pu_ <= 9 && pv_ <= 9) return d1_in<10, false>(i, u, v).p;
+  return d1_in<32, false>(i, u, v).p;
 }
 
 SurfaceDerivs PatchGrid::d1(double u, double v) const {
   return d1_on_span(find_span(ub_, u), u, v);
 }
 
-template <std::size_t N>
+template <std::size_t N, bool kDerivs>
 SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
   const int j = find_span(vb_, v);
   const double du = ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)];
@@ -389,8 +369,8 @@ SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
   const double s = (u - ub_[static_cast<std::size_t>(i)]) / du;
   const double t = (v - vb_[static_cast<std::size_t>(j)]) / dv;
   std::array<double, N> bu, dbu, bv, dbv;
-  bernstein<N>(pu_, s, &bu, &dbu);
-  bernstein<N>(pv_, t, &bv, &dbv);
+  bernstein<N>(pu_, s, &bu, kDerivs ? &dbu : nullptr);
+  bernstein<N>(pv_, t, &bv, kDerivs ? &dbv : nullptr);
   const H4* p = patch(i, j);
   // Rows in u first (value and u-derivative), then combined in v.
   H4 A{0, 0, 0, 0}, Au{0, 0, 0, 0}, Av{0, 0, 0, 0};
@@ -399,27 +379,31 @@ SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
     for (int a = 0; a <= pu_; ++a) {
       const H4& q = p[a + (pu_ + 1) * b];
       row = axpy(row, bu[static_cast<std::size_t>(a)], q);
-      row_u = axpy(row_u, dbu[static_cast<std::size_t>(a)], q);
+      if constexpr (kDerivs) row_u = axpy(row_u, dbu[static_cast<std::size_t>(a)], q);
     }
     A = axpy(A, bv[static_cast<std::size_t>(b)], row);
-    Au = axpy(Au, bv[static_cast<std::size_t>(b)], row_u);
-    Av = axpy(Av, dbv[static_cast<std::size_t>(b)], row);
+    if constexpr (kDerivs) {
+      Au = axpy(Au, bv[static_cast<std::size_t>(b)], row_u);
+      Av = axpy(Av, dbv[static_cast<std::size_t>(b)], row);
+    }
   }
-  Au = Au * (1.0 / du);
-  Av = Av * (1.0 / dv);
   SurfaceDerivs d;
   d.p = project(A);
-  const gp_Vec P(d.p.X(), d.p.Y(), d.p.Z());
-  d.su = (gp_Vec(Au.x, Au.y, Au.z) - P * Au.w) / A.w;
-  d.sv = (gp_Vec(Av.x, Av.y, Av.z) - P * Av.w) / A.w;
+  if constexpr (kDerivs) {
+    Au = Au * (1.0 / du);
+    Av = Av * (1.0 / dv);
+    const gp_Vec P(d.p.X(), d.p.Y(), d.p.Z());
+    d.su = (gp_Vec(Au.x, Au.y, Au.z) - P * Au.w) / A.w;
+    d.sv = (gp_Vec(Av.x, Av.y, Av.z) - P * Av.w) / A.w;
+  }
   return d;
 }
 
 SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
   // Buffers sized to the degree: they are initialised on every call.
-  if (pu_ <= 3 && pv_ <= 3) return d1_in<4>(i, u, v);
-  if (pu_ <= 9 && pv_ <= 9) return d1_in<10>(i, u, v);
-  return d1_in<32>(i, u, v);
+  if (pu_ <= 3 && pv_ <= 3) return d1_in<4, true>(i, u, v);
+  if (pu_ <= 9 && pv_ <= 9) return d1_in<10, true>(i, u, v);
+  return d1_in<32, true>(i, u, v);
 }
 
 gp_Vec PatchGrid::normal(double u, double v, const SurfaceDerivs* at) const {

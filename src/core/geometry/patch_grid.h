@@ -112,10 +112,10 @@ class PatchGrid {
 
  private:
   void finish();
-  template <std::size_t N>
+  // The point at (u, v) in u-span i; with kDerivs its first derivatives
+  // too (eval() asks for the point alone).
+  template <std::size_t N, bool kDerivs>
   SurfaceDerivs d1_in(int i, double u, double v) const;
-  template <std::size_t N>
-  gp_Pnt eval_in(double u, double v) const;
 
   int pu_ = 0, pv_ = 0;
   bool rational_ = false;
