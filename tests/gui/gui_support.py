@@ -49,6 +49,18 @@ def wait_until(predicate, timeout, what):
         pump(0.02)
 
 
+def children(widget, cls):
+    """`widget`'s descendants of Qt class `cls`, each checked by the class of
+    the live C++ object. PySide's findChildren converts every child to Python
+    and matches the wrapper's type; a wrapper left over from an object that
+    FreeCAD deleted in C++ (a closed dialog's button box) can stand at the
+    address of a new, different object, and a call through it crashed FreeCAD
+    (SIGSEGV in QDialogButtonBox::button after a cancelled computation).
+    QObject::inherits asks the live object's own meta-object."""
+    name = cls.staticMetaObject.className()
+    return [child for child in widget.findChildren(cls) if child.inherits(name)]
+
+
 def later(seconds, function):
     """Run `function` from the event loop after `seconds` (also inside a
     modal dialog's or the progress loop's event processing)."""
@@ -200,7 +212,7 @@ def toolbar_action(toolbar_title, command):
     """The QAction of FreeCAD command `command` in the toolbar titled
     `toolbar_title`, or None."""
     window = FreeCADGui.getMainWindow()
-    for bar in window.findChildren(QtGui.QToolBar):
+    for bar in children(window, QtGui.QToolBar):
         if bar.windowTitle() != toolbar_title or not bar.isVisible():
             continue
         for action in bar.actions():
@@ -287,7 +299,7 @@ def click(button):
 
 def button_labelled(widget, text):
     """The push button with label `text` inside `widget` (e.g. a dialog)."""
-    for button in widget.findChildren(QtGui.QPushButton):
+    for button in children(widget, QtGui.QPushButton):
         if button.text().replace("&", "") == text:
             return button
     raise AssertionError("no %r button in %r" % (text, widget.windowTitle()))
@@ -305,7 +317,7 @@ def task_button(which):
     """The Task view's standard button `which` (QDialogButtonBox.Ok...)."""
     show_tasks()
     window = FreeCADGui.getMainWindow()
-    for box in window.findChildren(QtGui.QDialogButtonBox):
+    for box in children(window, QtGui.QDialogButtonBox):
         button = box.button(which)
         if button is not None and button.isVisible():
             return button

@@ -237,7 +237,7 @@ class RoundTrip(unittest.TestCase):
 
         def cancel_when_shown():
             modal = QtGui.QApplication.activeModalWidget()
-            buttons = modal.findChildren(QtGui.QPushButton) if modal is not None else []
+            buttons = gui.children(modal, QtGui.QPushButton) if modal is not None else []
             if modal is not None and gui.is_progress_dialog(modal):
                 if not buttons:  # shown, its button not laid out yet
                     gui.later(0.1, cancel_when_shown)
