@@ -77,7 +77,8 @@ void bind_five_axis(py::module_& m) {
       .def_readwrite("rapid_rate", &FiveAxisParams::rapid_rate, "mm/min")
       .def_readwrite("rotary_rate", &FiveAxisParams::rotary_rate, "deg/min (A and C)")
       .def_readwrite("protect_unpicked_faces", &FiveAxisParams::protect_unpicked_faces)
-      .def_readwrite("max_moves", &FiveAxisParams::max_moves);
+      .def_readwrite("max_moves", &FiveAxisParams::max_moves)
+      .def_readwrite("threads", &FiveAxisParams::threads, "0: one per core");
 
   py::class_<FiveAxisMetrics>(m, "FiveAxisMetrics")
       .def_readonly("cutting_length", &FiveAxisMetrics::cutting_length)

@@ -1,11 +1,11 @@
 // 5-axis strip finishing (isocam/five_axis.h): the strip half-width against
 // its closed form on flat ground, the A/C convention and the unwrapped C,
 // the tool posed on a plane (the disc's lowest point on the plane, the axis
-// at the lead angle from the normal, along the feed), and arguments refused
-// by name; the bull nose: its strip against a brute-force Minkowski sum,
-// between the ball's and the flat end's, posed on a plane, and kept off a
-// convex and a concave cylinder by a sampled torus that shares nothing
-// with the core.
+// at the lead angle from the normal, along the feed), arguments refused by
+// name, and the same path on one thread and on several; the bull nose: its
+// strip against a brute-force Minkowski sum, between the ball's and the
+// flat end's, posed on a plane, and kept off a convex and a concave
+// cylinder by a sampled torus that shares nothing with the core.
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -326,6 +326,36 @@ TEST(FiveAxis, DegenerateFaceBesideAGoodOneIsSkipped) {
   }
 }
 
+TEST(FiveAxis, OneAndManyThreadsGiveTheSamePath) {
+  // A Bezier saddle, 16 x 12 mm (the lead raised on its concave side), both
+  // directions traced and the runs posed on 1 and on 4 threads.
+  TColgp_Array2OfPnt poles(1, 3, 1, 3);
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j)
+      poles(i, j) =
+          gp_Pnt(8.0 * (i - 1), 6.0 * (j - 1), 1.5 * ((i - 2) * (i - 2) - (j - 2) * (j - 2)));
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  FiveAxisParams p;
+  p.scallop_height = 0.02;
+  p.threads = 1;
+  const FiveAxisResult one = five_axis_finish(face, {0}, p);
+  p.threads = 4;
+  const FiveAxisResult four = five_axis_finish(face, {0}, p);
+  ASSERT_GT(one.path.size(), 100u);
+  EXPECT_GT(one.metrics.paths, 3);
+  EXPECT_EQ(one.path.kind, four.path.kind);
+  EXPECT_EQ(one.path.x, four.path.x);
+  EXPECT_EQ(one.path.y, four.path.y);
+  EXPECT_EQ(one.path.z, four.path.z);
+  EXPECT_EQ(one.i, four.i);
+  EXPECT_EQ(one.j, four.j);
+  EXPECT_EQ(one.k, four.k);
+  EXPECT_EQ(one.metrics.guaranteed_scallop, four.metrics.guaranteed_scallop);
+  EXPECT_EQ(one.metrics.lead_raised_points, four.metrics.lead_raised_points);
+  EXPECT_EQ(one.metrics.unreachable_length, four.metrics.unreachable_length);
+  EXPECT_LE(one.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
+}
+
 TEST(FiveAxis, BadArgumentsAreNamed) {
   FiveAxisParams p;
   p.corner_radius = 3.0;  // a ball: no flat bottom
@@ -344,6 +374,9 @@ TEST(FiveAxis, BadArgumentsAreNamed) {
   p = {};
   p.tool_length = 1.0;
   expect_refused(p, "tool_length");
+  p = {};
+  p.threads = -1;
+  expect_refused(p, "threads");
 }
 
 }  // namespace

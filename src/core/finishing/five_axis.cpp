@@ -22,6 +22,7 @@
 #include "finishing/five_axis_link.h"
 #include "finishing/five_axis_tool.h"
 #include "finishing/scallop_front.h"
+#include "finishing/task_pool.h"
 #include "geometry/clearance.h"
 #include "geometry/trim_domain.h"
 #include "isocam/brep_io.h"
@@ -77,6 +78,7 @@ void validate(const FiveAxisParams& p) {
           "> 0 mm/min");
   require(std::isfinite(p.rotary_rate) && p.rotary_rate > 0, "rotary_rate", p.rotary_rate,
           "> 0 deg/min");
+  require(p.threads >= 0, "threads", p.threads, ">= 0 (0: one per core)");
   check_max_moves(p.max_moves);
 }
 
@@ -293,6 +295,7 @@ struct Posed {
   ParamPt uv;
   ToolPose pose;
   double lead = 0;
+  double depth = 0;  // tool_depth of the pose, computed once by Poser::pose
   bool raised = false;
 };
 
@@ -300,6 +303,17 @@ struct PoseOut {
   std::vector<std::vector<Posed>> runs;
   double unreachable = 0, max_lead = 0;
   int raised = 0, gouge_left = 0, shank_left = 0, range_left = 0;
+
+  // o's runs after these, its counts added.
+  void append(PoseOut&& o) {
+    for (std::vector<Posed>& r : o.runs) runs.push_back(std::move(r));
+    unreachable += o.unreachable;
+    max_lead = std::max(max_lead, o.max_lead);
+    raised += o.raised;
+    gouge_left += o.gouge_left;
+    shank_left += o.shank_left;
+    range_left += o.range_left;
+  }
 };
 
 class Poser {
@@ -325,7 +339,7 @@ class Poser {
     for (std::size_t k = 0; k < pts.size(); ++k) {
       Posed& x = pts[k];
       bool ok = true;
-      if (depth(x) > job_.p.gouge_tolerance) {
+      if (x.depth > job_.p.gouge_tolerance) {
         ++out->gouge_left;
         ok = false;
       } else if (!job_.capsule_clear(x.pose.tip, x.pose.axis) ||
@@ -373,10 +387,12 @@ class Poser {
     x->raised = x->lead > job_.lead + 1e-9;
     x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
     // The exact check: raise the lead in 2 degree steps while the end digs in.
-    while (depth(*x) > job_.p.gouge_tolerance && x->lead < job_.max_lead) {
+    x->depth = depth(*x);
+    while (x->depth > job_.p.gouge_tolerance && x->lead < job_.max_lead) {
       x->lead = std::min(job_.max_lead, x->lead + 2 * kDegree);
       x->raised = true;
       x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
+      x->depth = depth(*x);
     }
     return true;
   }
@@ -453,13 +469,14 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   const FiveAxisParams& p = job.p;
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (p.direction != IsoDirection::Auto) dirs = {p.direction};
-  std::optional<PatchGrid> best_grid;
-  FaceRun out;
-  Traced& best = out.best;
-  bool best_transposed = false;
-  for (IsoDirection d : dirs) {
-    const bool tr = d == IsoDirection::U;
-    PatchGrid g = tr ? face.grid.transposed() : face.grid;
+  // Both directions traced at once, each on its own grid, then compared in
+  // order (the result does not depend on the threads).
+  std::vector<std::optional<PatchGrid>> grids(dirs.size());
+  std::vector<Traced> traced(dirs.size());
+  for_each_index(dirs.size(), p.threads, [&](std::size_t k) {
+    const bool tr = dirs[k] == IsoDirection::U;
+    grids[k].emplace(tr ? face.grid.transposed() : face.grid);
+    const PatchGrid& g = *grids[k];
     // Spaced for h' first; where the measured certificate exceeds it
     // (the next path runs a little farther than the march went, where
     // points were resampled, cut out or joined), again for a target
@@ -472,6 +489,15 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
       if (t.cusp <= job.h_eff) break;
       target *= 0.98 * job.h_eff / t.cusp;
     }
+    traced[k] = std::move(t);
+  });
+  std::optional<PatchGrid> best_grid;
+  FaceRun out;
+  Traced& best = out.best;
+  bool best_transposed = false;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    const bool tr = dirs[k] == IsoDirection::U;
+    Traced& t = traced[k];
     // The direction that covers the face (no sampled gap wider than
     // half the strip) and meets h' by its certificate, then the shorter.
     auto meets = [&job](const Traced& x) {
@@ -480,19 +506,21 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     if (!best_grid || (meets(t) && !meets(best)) ||
         (meets(t) == meets(best) && t.length < best.length)) {
       best = std::move(t);
-      best_grid.emplace(std::move(g));
+      best_grid.emplace(std::move(*grids[k]));
       best_transposed = tr;
     }
   }
   const PatchGrid& g = *best_grid;
   const std::vector<Run> clipped =
       clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
-  PoseOut& posed = out.posed;
+  // The runs posed at once, each into its own part, joined in order.
   const Poser poser(g, *face.trim, best_transposed, job);
-  for (const Run& r : clipped) {
+  std::vector<PoseOut> parts(clipped.size());
+  for_each_index(clipped.size(), p.threads, [&](std::size_t k) {
     slice.check();
-    poser.run(r, &posed);
-  }
+    poser.run(clipped[k], &parts[k]);
+  });
+  for (PoseOut& part : parts) out.posed.append(std::move(part));
   return out;
 }
 

@@ -185,25 +185,35 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
   return true;
 }
 
-bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot) {
-  bool clamped = false;
+bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, SurfaceDerivs* at) {
+  bool clamped = false, at_uv = false;
+  SurfaceDerivs d;
   for (int it = 0; it < 12; ++it) {
-    const SurfaceDerivs d = g.d1(uv.u, uv.v);
+    d = g.d1(uv.u, uv.v);
+    at_uv = true;
     const gp_Vec r(d.p, x);
     const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
     const double det = E * G - F * F;
     if (!(det > 1e-300)) break;
     const double bu = r.Dot(d.su), bv = r.Dot(d.sv);
     const double du = (G * bu - F * bv) / det, dv = (E * bv - F * bu) / det;
+    // Converged where the next step would move the point by under 1e-9 mm
+    // (the height at the foot is stationary, so its error is far smaller).
+    if ((d.su * du + d.sv * dv).SquareMagnitude() < 1e-18) {
+      clamped = false;
+      break;
+    }
     ParamPt nx{std::clamp(uv.u + du, g.umin(), g.umax()),
                std::clamp(uv.v + dv, g.vmin(), g.vmax())};
     clamped = nx.u != uv.u + du || nx.v != uv.v + dv;
     const bool done = std::abs(nx.u - uv.u) + std::abs(nx.v - uv.v) <
                       1e-13 * (g.umax() - g.umin() + g.vmax() - g.vmin());
+    at_uv = nx.u == uv.u && nx.v == uv.v;
     uv = nx;
     if (done) break;
   }
   *foot = uv;
+  if (at) *at = at_uv ? d : g.d1(uv.u, uv.v);
   return !clamped;
 }
 

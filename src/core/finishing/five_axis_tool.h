@@ -106,16 +106,19 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
 // The most the cutting end of the pose goes below the surface of `g` near
 // uv (a positive depth, 0 if it stays above): samples of the core disc's
 // rim (48) and two inner rings, each against its nearest surface point
-// found by Newton's method from uv, digging in by rc - (its signed height);
-// points whose nearest point is on the grid's boundary (the tool overhangs
-// the untrimmed surface) or outside `inside` do not count.
+// found by Newton's method (from uv, or from the foot of the ring's sample
+// before), digging in by rc - (its signed height); points whose nearest
+// point is on the grid's boundary (the tool overhangs the untrimmed
+// surface) or outside `inside` do not count.
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside);
 
 // Nearest point of g to x by Newton from uv; false if it ends on the
-// rectangle's boundary. `foot` receives its parameters.
-bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot);
+// rectangle's boundary. `foot` receives its parameters and `at` (if given)
+// the surface's point and derivatives there.
+bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot,
+                SurfaceDerivs* at = nullptr);
 
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
@@ -129,18 +132,24 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
     double r;
     int n;
   } rings[] = {{1.0, 48}, {0.66, 24}, {0.33, 12}};
-  for (const auto& ring : rings)
+  for (const auto& ring : rings) {
+    // Each sample's Newton starts from its neighbour's foot on the ring (a
+    // fraction of a millimetre away), the first from uv.
+    ParamPt start = uv;
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
       const gp_Pnt x =
           pose.tip.Translated(pose.axis * tool.corner +
                               (e1 * std::cos(th) + e2 * std::sin(th)) * (tool.core() * ring.r));
       ParamPt foot;
-      if (!nearest_on(g, x, uv, &foot) || !inside(foot)) continue;
-      const SurfaceDerivs d = g.d1(foot.u, foot.v);
+      SurfaceDerivs d;
+      const bool on = nearest_on(g, x, start, &foot, &d);
+      start = on ? foot : uv;
+      if (!on || !inside(foot)) continue;
       const double hgt = gp_Vec(d.p, x).Dot(g.normal(foot.u, foot.v, &d));
       depth = std::max(depth, tool.corner - hgt);
     }
+  }
   return depth;
 }
 

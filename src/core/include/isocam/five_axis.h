@@ -156,6 +156,7 @@ struct FiveAxisParams {
   double rotary_rate = 3600.0;  // deg/min, > 0: the A and C speed machine_time assumes
   bool protect_unpicked_faces = true;
   double max_moves = kDefaultMaxMoves;
+  int threads = 0;  // directions traced and runs posed at once; 0: one per core
 };
 
 struct FiveAxisMetrics {
