@@ -186,11 +186,12 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
 }
 
 bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, SurfaceDerivs* at) {
-  bool clamped = false, at_uv = false;
+  bool clamped = false;
   SurfaceDerivs d;
+  ParamPt d_at{};  // where d was evaluated
   for (int it = 0; it < 12; ++it) {
     d = g.d1(uv.u, uv.v);
-    at_uv = true;
+    d_at = uv;
     const gp_Vec r(d.p, x);
     const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
     const double det = E * G - F * F;
@@ -208,12 +209,11 @@ bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, 
     clamped = nx.u != uv.u + du || nx.v != uv.v + dv;
     const bool done = std::abs(nx.u - uv.u) + std::abs(nx.v - uv.v) <
                       1e-13 * (g.umax() - g.umin() + g.vmax() - g.vmin());
-    at_uv = nx.u == uv.u && nx.v == uv.v;
     uv = nx;
     if (done) break;
   }
   *foot = uv;
-  if (at) *at = at_uv ? d : g.d1(uv.u, uv.v);
+  if (at) *at = d_at.u == uv.u && d_at.v == uv.v ? d : g.d1(uv.u, uv.v);
   return !clamped;
 }
 
