@@ -12,6 +12,7 @@
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -513,12 +514,18 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   const PatchGrid& g = *best_grid;
   const std::vector<Run> clipped =
       clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
-  // The runs posed at once, each into its own part, joined in order.
+  // The runs posed at once, each into its own part, joined in order; the
+  // tracing counts as the first half of the face's progress, the runs
+  // posed so far as the second.
+  slice.report(0.5);
+  const ProgressSlice posing = slice.sub(0.5, 1.0);
+  std::atomic<std::size_t> posed_runs{0};
   const Poser poser(g, *face.trim, best_transposed, job);
   std::vector<PoseOut> parts(clipped.size());
   for_each_index(clipped.size(), p.threads, [&](std::size_t k) {
     slice.check();
     poser.run(clipped[k], &parts[k]);
+    posing.report(double(++posed_runs) / double(clipped.size()));
   });
   for (PoseOut& part : parts) out.posed.append(std::move(part));
   return out;
