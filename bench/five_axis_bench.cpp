@@ -103,24 +103,35 @@ int main(int argc, char** argv) {
     // The 5-axis runs: low links (the default), then every run through the
     // safe height (the linking before issue 13's low links); machine time
     // with the rotary moves timed, and without (tip moves only, as before).
-    for (bool low : {true, false}) {
+    struct Run5 {
+      FiveAxisStrategy strategy;
+      bool low;
+    };
+    for (const Run5 run : {Run5{FiveAxisStrategy::StripEvaluation, true},
+                           Run5{FiveAxisStrategy::StripEvaluation, false},
+                           Run5{FiveAxisStrategy::NormalIsocurves, true}}) {
+      const bool low = run.low;
+      const bool iso = run.strategy == FiveAxisStrategy::NormalIsocurves;
       FiveAxisParams p;
       p.scallop_height = c.h;
       p.low_links = low;
+      p.strategy = run.strategy;
       const auto t0 = std::chrono::steady_clock::now();
       const FiveAxisResult r = five_axis_finish(shape, faces, p);
       const double secs =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const FiveAxisMetrics& m = r.metrics;
-      const std::string label =
-          std::string("5-axis flat end 6 mm, lead 5 deg, ") + (low ? "low links" : "safe height");
+      const std::string label = std::string("5-axis flat end 6 mm, lead 5 deg, ") +
+                                (iso ? "NormalIsocurves, " : "") +
+                                (low ? "low links" : "safe height");
       row(label, secs, m.cutting_length, m.paths, m.machine_time, m.cutting_time,
           m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length,
           num(m.rotary_travel_a, 0) + " / " + num(m.rotary_travel_c, 0));
       const PathTimes tip = estimate_time(r.path, p.feed_rate, p.plunge_rate, p.rapid_rate);
-      links << "| " << c.name << " | " << (low ? "low links" : "safe height") << " | "
-            << m.low_links << " / " << m.safe_hops << " | " << num(m.rapid_length, 0) << " | "
-            << num(m.machine_time / 60, 2) << " | " << num(tip.total / 60, 2) << " |\n";
+      links << "| " << c.name << " | " << (iso ? "NormalIsocurves, " : "")
+            << (low ? "low links" : "safe height") << " | " << m.low_links << " / " << m.safe_hops
+            << " | " << num(m.rapid_length, 0) << " | " << num(m.machine_time / 60, 2) << " | "
+            << num(tip.total / 60, 2) << " |\n";
       for (const std::string& w : r.warnings) std::cout << "  warning: " << w << "\n";
     }
     for (IsoPattern pat : {IsoPattern::ConstantScallop, IsoPattern::Adaptive}) {

@@ -46,7 +46,8 @@ __title__ = "IsoCAM 5-Axis Strip Finish operation"
 OP_NAME = "FiveAxisStripFinish"
 
 DIRECTIONS = ("Auto", "U", "V")
-_ENUMERATIONS = {"Direction": DIRECTIONS}
+STRATEGIES = ("StripEvaluation", "NormalIsocurves")
+_ENUMERATIONS = {"Direction": DIRECTIONS, "Strategy": STRATEGIES}
 
 # The G-code comment header (no parentheses inside: rs274 does not nest them).
 HEADER = (
@@ -119,6 +120,17 @@ _DEFINITIONS = (
     ),
     (
         "App::PropertyEnumeration",
+        "Strategy",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "StripEvaluation: each pass placed from the one before by the width of the strip "
+            "it cuts (Lee 1998). NormalIsocurves: adaptive isocurves of the face spaced by "
+            "that width, the tool along each oriented by the surface normal there (Elber & "
+            "Cohen).",
+        ),
+    ),
+    (
+        "App::PropertyEnumeration",
         "Direction",
         QT_TRANSLATE_NOOP(
             "App::Property",
@@ -186,6 +198,7 @@ _DEFAULTS = {
     "AMin": 0.0,
     "AMax": 90.0,
     "ToolLength": 30.0,
+    "Strategy": "StripEvaluation",
     "Direction": "Auto",
     "ProtectModel": True,
     "PostPrecision": 3,
@@ -458,6 +471,7 @@ def _params(obj, core, radius, corner=0.0):
     p.a_max = obj.AMax.Value
     p.tool_length = obj.ToolLength.Value
     p.direction = getattr(core.IsoDirection, obj.Direction)
+    p.strategy = getattr(core.FiveAxisStrategy, obj.Strategy)
     p.protect_unpicked_faces = bool(obj.ProtectModel)
     if not 0 <= obj.PostPrecision <= 9:
         raise IsoCAMError("PostPrecision must be 0..9 decimals (got %d)" % obj.PostPrecision)
@@ -521,6 +535,7 @@ def SetupProperties():
         "AMin",
         "AMax",
         "ToolLength",
+        "Strategy",
         "Direction",
         "AirClearance",
         "RapidRate",

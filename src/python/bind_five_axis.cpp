@@ -50,6 +50,9 @@ PyFiveAxisResult run(const std::string& brep, const std::vector<int>& faces,
 }  // namespace
 
 void bind_five_axis(py::module_& m) {
+  py::enum_<FiveAxisStrategy>(m, "FiveAxisStrategy")
+      .value("StripEvaluation", FiveAxisStrategy::StripEvaluation)
+      .value("NormalIsocurves", FiveAxisStrategy::NormalIsocurves);
   py::class_<FiveAxisParams>(m, "FiveAxisParams",
                              "Parameters of 5-axis strip finishing (mm, degrees)")
       .def(py::init<>())
@@ -68,6 +71,8 @@ void bind_five_axis(py::module_& m) {
       .def_readwrite("a_min", &FiveAxisParams::a_min, "degrees")
       .def_readwrite("a_max", &FiveAxisParams::a_max, "degrees")
       .def_readwrite("direction", &FiveAxisParams::direction)
+      .def_readwrite("strategy", &FiveAxisParams::strategy,
+                     "StripEvaluation (Lee 1998) or NormalIsocurves (Elber & Cohen)")
       .def_readwrite("safe_z", &FiveAxisParams::safe_z)
       .def_readwrite("air_clearance", &FiveAxisParams::air_clearance)
       .def_readwrite("low_links", &FiveAxisParams::low_links,

@@ -356,6 +356,33 @@ TEST(FiveAxis, OneAndManyThreadsGiveTheSamePath) {
   EXPECT_LE(one.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
 }
 
+TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
+  // The Bezier saddle above: adaptive isocurves with the tilted flat end's
+  // strip, the lead raised on the concave side as for the other strategy.
+  TColgp_Array2OfPnt poles(1, 3, 1, 3);
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j)
+      poles(i, j) =
+          gp_Pnt(8.0 * (i - 1), 6.0 * (j - 1), 1.5 * ((i - 2) * (i - 2) - (j - 2) * (j - 2)));
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  FiveAxisParams p;
+  p.scallop_height = 0.02;
+  p.strategy = FiveAxisStrategy::NormalIsocurves;
+  const FiveAxisResult iso = five_axis_finish(face, {0}, p);
+  p.strategy = FiveAxisStrategy::StripEvaluation;
+  const FiveAxisResult strip = five_axis_finish(face, {0}, p);
+  const FiveAxisMetrics& m = iso.metrics;
+  ASSERT_GT(iso.path.size(), 100u);
+  EXPECT_GT(m.paths, 3);
+  EXPECT_LE(m.guaranteed_scallop, p.scallop_height + 1e-12);
+  EXPECT_LE(m.max_spacing, 2 * 3.0);
+  EXPECT_LE(2 * m.coverage_gap, 1.05 * m.flat_strip_width);
+  EXPECT_EQ(m.unreachable_length, 0.0);
+  EXPECT_GT(m.lead_raised_points, 0);
+  EXPECT_NE(iso.path.x, strip.path.x);
+  for (const std::string& w : iso.warnings) EXPECT_EQ(w.find("gap"), std::string::npos) << w;
+}
+
 TEST(FiveAxis, BadArgumentsAreNamed) {
   FiveAxisParams p;
   p.corner_radius = 3.0;  // a ball: no flat bottom

@@ -1,7 +1,7 @@
 """5-Axis Strip Finish measured from outside on curved faces (issue 13): a
 convex cylinder patch (its passes cross the pole of the A/C machine, A = 0,
 where C turns by half a turn) and a B-spline saddle (concave across one way:
-the lead is raised there). As test_five_axis_finish.py's tilted plane: the
+the lead is raised there), the saddle also with Strategy NormalIsocurves. As test_five_axis_finish.py's tilted plane: the
 posted G-code read back by rs274 and swept by five_axis_check.py, which
 shares nothing with the core; material left and overcut within the op's
 GuaranteedScallop and GuaranteedOvercut. Its own file, small cases as
@@ -29,6 +29,13 @@ class CurvedFacesTest(FiveAxisFinishTest):
 
     def test_bspline_saddle(self):
         self.run_case("Saddle", Part.Shape(saddle()), lambda s: 1)
+
+    def test_bspline_saddle_normal_isocurves(self):
+        _built, iso, _left, _over = self.run_case(
+            "SaddleIso", Part.Shape(saddle()), lambda s: 1, Strategy="NormalIsocurves"
+        )
+        self.assertEqual(iso.Strategy, "NormalIsocurves")
+        self.assertGreater(iso.MaxLeadUsed, iso.LeadAngle.Value)  # raised on the concave side
 
 
 del FiveAxisFinishTest  # not collected twice

@@ -23,6 +23,7 @@
 #include "finishing/five_axis_link.h"
 #include "finishing/five_axis_tool.h"
 #include "finishing/scallop_front.h"
+#include "finishing/strip_isocurves.h"
 #include "finishing/task_pool.h"
 #include "geometry/clearance.h"
 #include "geometry/trim_domain.h"
@@ -142,12 +143,40 @@ StripFrame frame_with(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed)
   return f;
 }
 
+// The cusp between a path's point (frame f) and the next path at distance
+// d, q the next path's point there: the largest as the edge at f, at q and
+// at the ground between (the parameters' midpoint) sees it (the spacing
+// was the least of the three widths, so each edge meets h there).
+double pair_cusp(const PatchGrid& g, const Job& job, const StripFrame& f, const ParamPt& q,
+                 double d) {
+  double cu = job.edge(f).cusp(d);
+  const ParamPt mid{0.5 * (q.u + f.uv.u), 0.5 * (q.v + f.uv.v)};
+  for (const ParamPt& x : {q, mid}) {
+    const StripFrame fx = frame_with(g, x, f.feed);
+    if (fx.feed.SquareMagnitude() > 0.5) cu = std::max(cu, job.edge(fx).cusp(d));
+  }
+  return cu;
+}
+
+// Definition 1 sampled: the largest distance from a point of the face
+// (inside its wires) to the nearest path.
+double sampled_gap(const PatchGrid& g, const TrimDomain& trim, bool transposed,
+                   const PathIndex& index) {
+  const int n = 64;
+  double gap = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const double u = g.umin() + (g.umax() - g.umin()) * (a + 0.5) / n;
+      const double v = g.vmin() + (g.vmax() - g.vmin()) * (b + 0.5) / n;
+      if (!(transposed ? trim.contains(v, u) : trim.contains(u, v))) continue;
+      gap = std::max(gap, index.distance(g.eval(u, v)));
+    }
+  return gap;
+}
+
 // The paths for strips spaced for the cusp h (the target), with the
 // certificate: for each point p with a successor, the distance d to the
-// next path and the cusp of that distance as the edge at p, at the nearest
-// point q of the next path and at the ground between (the parameters'
-// midpoint) sees it: the largest of the three (the spacing was the least of
-// the three widths, so each edge meets h at the spacing marched).
+// next path and pair_cusp() there.
 Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job,
                   double h, const ProgressSlice& progress) {
   Traced out;
@@ -171,8 +200,6 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
     out.min_hits += step.min_hits;
     PathIndex next(job.flat_width);
     for (const FrontPiece& pc : step.next) next.add(pc);
-    // The certificate: each point with a successor against the next path,
-    // the cusp of that distance on the largest curvature across between.
     for (const FrontPiece& pc : front) {
       samples += pc.size();
       for (std::size_t k = 0; k < pc.size(); ++k) {
@@ -184,30 +211,51 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
         const double d = next.distance(pc[k].p, &at);
         out.max_spacing = std::max(out.max_spacing, d);
         out.max_width = std::max(out.max_width, pc[k].spacing);
-        double cu = job.edge(f).cusp(d);
         ParamPt q;
         nearest_on(g, at, pc[k].uv, &q);
-        const ParamPt mid{0.5 * (q.u + pc[k].uv.u), 0.5 * (q.v + pc[k].uv.v)};
-        for (const ParamPt& x : {q, mid}) {
-          const StripFrame fx = frame_with(g, x, f.feed);
-          if (fx.feed.SquareMagnitude() > 0.5) cu = std::max(cu, job.edge(fx).cusp(d));
-        }
-        out.cusp = std::max(out.cusp, cu);
+        out.cusp = std::max(out.cusp, pair_cusp(g, job, f, q, d));
       }
     }
     out.paths.push_back(std::move(front));
     front = std::move(step.next);
   }
-  // Definition 1 sampled: the largest distance from a point of the face
-  // (inside its wires) to the nearest path.
-  const int n = 64;
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) {
-      const double u = g.umin() + (g.umax() - g.umin()) * (a + 0.5) / n;
-      const double v = g.vmin() + (g.vmax() - g.vmin()) * (b + 0.5) / n;
-      if (!(transposed ? trim.contains(v, u) : trim.contains(u, v))) continue;
-      out.gap = std::max(out.gap, index.distance(g.eval(u, v)));
+  out.gap = sampled_gap(g, trim, transposed, index);
+  return out;
+}
+
+// The NormalIsocurves strategy: adaptive isocurves of the grid's v
+// (finishing/strip_isocurves.h) spaced for the cusp h, with the same
+// certificate as trace_face(), the next path's point taken at the same u
+// (farther than the nearest, so the cusp measured is not less).
+Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job,
+                       double h, const ProgressSlice& progress) {
+  Traced out;
+  IsoStripSettings s;
+  s.sample_max = std::min(job.flat_width, job.p.tool_radius);
+  IsoStripPaths iso = strip_isocurves(
+      g, [&job, h](const StripFrame& f) { return job.width(f, h); }, s,
+      [&progress] { progress.check(); });
+  out.min_hits = iso.min_hits;
+  out.capped = iso.capped;
+  PathIndex index(job.flat_width);
+  for (std::size_t i = 0; i < iso.paths.size(); ++i)
+    for (std::size_t j = 0; j < iso.paths[i].size(); ++j) {
+      const FrontPiece& pc = iso.paths[i][j];
+      index.add(pc);
+      for (std::size_t k = 0; k < pc.size(); ++k) {
+        if (k > 0) out.length += pc[k - 1].p.Distance(pc[k].p);
+        if (!pc[k].has_next) continue;
+        const StripFrame f = frame_at(g, pc, k);
+        if (f.feed.SquareMagnitude() < 0.5) continue;
+        const ParamPt& q = iso.next[i][j][k];
+        const double d = pc[k].p.Distance(g.eval(q.u, q.v));
+        out.max_spacing = std::max(out.max_spacing, d);
+        out.max_width = std::max(out.max_width, pc[k].spacing);
+        out.cusp = std::max(out.cusp, pair_cusp(g, job, f, q, d));
+      }
     }
+  out.paths = std::move(iso.paths);
+  out.gap = sampled_gap(g, trim, transposed, index);
   return out;
 }
 
@@ -486,7 +534,9 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     double target = job.h_eff;
     Traced t;
     for (int attempt = 0; attempt < 4; ++attempt) {
-      t = trace_face(g, *face.trim, tr, job, target, slice);
+      t = p.strategy == FiveAxisStrategy::NormalIsocurves
+              ? trace_isocurves(g, *face.trim, tr, job, target, slice)
+              : trace_face(g, *face.trim, tr, job, target, slice);
       if (t.cusp <= job.h_eff) break;
       target *= 0.98 * job.h_eff / t.cusp;
     }

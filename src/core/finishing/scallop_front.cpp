@@ -77,19 +77,6 @@ gp_Vec tangential(const gp_Vec& v, const gp_Vec& n) {
   return m > 1e-300 ? t / m : gp_Vec(0, 0, 0);
 }
 
-StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_guess) {
-  StripFrame f;
-  f.uv = uv;
-  const SurfaceDerivs d = g.d1(uv.u, uv.v);
-  f.p = d.p;
-  f.normal = g.normal(uv.u, uv.v, &d);
-  f.feed = tangential(feed_guess, f.normal);
-  f.across = f.normal.Crossed(f.feed);
-  if (f.feed.SquareMagnitude() > 0.5)
-    normal_curvatures(g, uv, f.normal, f.across, f.feed, &f.kappa_across, &f.kappa_feed);
-  return f;
-}
-
 // A march on the surface from `uv` along the tangent direction `dir`, each
 // step solved for (du, dv) by param_direction() at its midpoint and the
 // direction carried on as the chord of the last step (a discrete geodesic).
@@ -279,6 +266,19 @@ std::int64_t cell_key(long i, long j, long k) {
 }
 
 }  // namespace
+
+StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_guess) {
+  StripFrame f;
+  f.uv = uv;
+  const SurfaceDerivs d = g.d1(uv.u, uv.v);
+  f.p = d.p;
+  f.normal = g.normal(uv.u, uv.v, &d);
+  f.feed = tangential(feed_guess, f.normal);
+  f.across = f.normal.Crossed(f.feed);
+  if (f.feed.SquareMagnitude() > 0.5)
+    normal_curvatures(g, uv, f.normal, f.across, f.feed, &f.kappa_across, &f.kappa_feed);
+  return f;
+}
 
 void PathIndex::add(const FrontPiece& pc) {
   for (std::size_t k = 1; k < pc.size(); ++k) {

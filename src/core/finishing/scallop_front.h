@@ -113,6 +113,10 @@ FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, cons
 // 0); 0 at a degenerate point.
 double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir);
 
+// The frame at uv with the feed along the tangential part of `feed_guess`
+// (curvatures filled; feed null where that part is degenerate).
+StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_guess);
+
 // The frame at a point of a piece (feed from its neighbours).
 StripFrame frame_at(const PatchGrid& g, const FrontPiece& piece, std::size_t k);
 

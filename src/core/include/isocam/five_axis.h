@@ -132,6 +132,21 @@
 
 namespace isocam {
 
+// How the contact paths are placed.
+enum class FiveAxisStrategy {
+  // Non-isoparametric: each path from the one before by the strip-width
+  // march (Lee's sections 3-5, above).
+  StripEvaluation,
+  // Adaptive isocurves (Elber & Cohen, Algorithm 1) with the tilted tool's
+  // strip width in place of the ball's: the boundary isocurves first, then
+  // the middle isocurve added, only over the stretch where two adjacent
+  // ones are farther apart (at the same parameter) than the width there;
+  // the tool along each isocurve oriented by the surface normal there (the
+  // paper's normal isocurve) tilted by the lead along the isocurve. The
+  // poses, checks, links and guarantees are the same as above.
+  NormalIsocurves,
+};
+
 struct FiveAxisParams {
   double tool_radius = 3.0;          // mm, R > 0 (a 6 mm flat end)
   double corner_radius = 0.0;        // mm, 0 <= rc < R: 0 a flat end, > 0 a bull nose
@@ -146,6 +161,7 @@ struct FiveAxisParams {
   double max_axis_step = 1.0;        // degrees, 0.05 .. 10: axis change per move
   double a_min = 0.0, a_max = 90.0;  // degrees, -120 <= a_min < a_max <= 120
   IsoDirection direction = IsoDirection::Auto;  // start path: iso-V at vmin, iso-U at umin
+  FiveAxisStrategy strategy = FiveAxisStrategy::StripEvaluation;
   double safe_z = 0.0;         // tip z for moves between passes (raised to clear the model)
   double air_clearance = 1.0;  // mm, > 0: approach and retract along the axis
   // Low links between consecutive runs where proven clear and quicker than
