@@ -356,6 +356,35 @@ TEST(FiveAxis, OneAndManyThreadsGiveTheSamePath) {
   EXPECT_LE(one.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
 }
 
+TEST(FiveAxis, SpacingFollowsTheLeadsTheExactCheckRaised) {
+  // A valley z = c x^4 (12 x 10 mm, c = 0.001), the passes along it: flat
+  // at the bottom, its curvature growing fast up the sides, so the disc's
+  // rim meets steeper ground than the curvature at the contact tells and
+  // the exact check raises the lead beyond what that curvature asks for.
+  // The certificate measured with the leads posed exceeds h' on the first
+  // paths; they are traced again with the strips narrowed there, and the
+  // guarantee holds for the leads posted.
+  const double a = 6.0, c = 0.001;
+  TColgp_Array2OfPnt poles(1, 5, 1, 2);  // x^4 on [-a, a]: Bezier ordinates c a^4 (+-1)
+  for (int i = 1; i <= 5; ++i)
+    for (int j = 1; j <= 2; ++j)
+      poles(i, j) = gp_Pnt(-a + 2 * a * (i - 1) / 4.0, 10.0 * (j - 1),
+                           c * std::pow(a, 4) * ((5 - i) % 2 == 0 ? 1 : -1));
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  FiveAxisParams p;
+  p.scallop_height = 0.02;
+  p.direction = IsoDirection::U;  // the passes along y
+  const FiveAxisResult r = five_axis_finish(face, {0}, p);
+  int again = 0;
+  for (const std::string& w : r.warnings)
+    if (w.find("traced again") != std::string::npos) ++again;
+  EXPECT_EQ(again, 1);
+  EXPECT_GT(r.metrics.lead_raised_points, 100);
+  EXPECT_LE(r.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
+  EXPECT_EQ(r.metrics.unreachable_length, 0.0);
+  EXPECT_LE(2 * r.metrics.coverage_gap, 1.05 * r.metrics.flat_strip_width);
+}
+
 TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
   // The Bezier saddle above: adaptive isocurves with the tilted flat end's
   // strip, the lead raised on the concave side as for the other strategy.

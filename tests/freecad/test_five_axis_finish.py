@@ -49,8 +49,8 @@ RAPID_STEP = 0.1
 RAPID_ANGLE = 1.0
 
 
-def sim_left(op):
-    return 0.5 * STEP * math.tan(math.radians(op.MaxLeadUsed)) + 0.0002
+def sim_left(op, step=STEP):
+    return 0.5 * step * math.tan(math.radians(op.MaxLeadUsed)) + 0.0002
 
 
 def tilted_plane():
@@ -156,9 +156,10 @@ class FiveAxisFinishTest(unittest.TestCase):
         self.assertTrue(run.ok, "rs274 refused the program: %s" % run.errors[:5])
         return gcode, check.motions(run.canon)
 
-    def run_case(self, name, shape, pick, corner=0.0, **props):
+    def run_case(self, name, shape, pick, corner=0.0, step=STEP, **props):
         """The op on the picked face with the 6 mm flat end, or (corner > 0)
-        a 6 mm bull nose of that corner radius; measured from outside."""
+        a 6 mm bull nose of that corner radius; measured from outside, the
+        tool swept every `step` mm of tip travel."""
         built = Built(name, shape)
         self.addCleanup(built.close)
         face_no = pick(built.clone.Shape)
@@ -181,7 +182,7 @@ class FiveAxisFinishTest(unittest.TestCase):
         for m in moves:
             self.assertGreaterEqual(m[4], op.AMin.Value - 1e-3)
             self.assertLessEqual(m[4], op.AMax.Value + 1e-3)
-        tips, axes = check.tool_instances(moves, step=STEP)
+        tips, axes = check.tool_instances(moves, step=step)
         face = built.clone.Shape.Faces[face_no - 1]
         pts, nrm = check.sample_face(face, SPACING, 0.5)
         left, _ = check.measure(pts, nrm, tips, axes, 3.0, op.ToolLength.Value, corner=corner)
@@ -223,7 +224,7 @@ class FiveAxisFinishTest(unittest.TestCase):
         self.assertEqual(len(reached), len(left), "samples no pass comes near")
         # ... and within the guarantees.
         self.assertLessEqual(op.GuaranteedScallop.Value, op.ScallopHeight.Value + 1e-9)
-        self.assertLessEqual(reached.max(), op.GuaranteedScallop.Value + sim_left(op))
+        self.assertLessEqual(reached.max(), op.GuaranteedScallop.Value + sim_left(op, step))
         self.assertLessEqual(over.max(), op.GuaranteedOvercut.Value + SIM_OVER)
         self.assertLessEqual(rapid_over.max(), op.GuaranteedOvercut.Value + SIM_OVER, "a G0 cuts")
         return built, op, left, over

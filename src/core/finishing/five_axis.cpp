@@ -14,9 +14,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <unordered_map>
 
 #include "finishing/coverage.h"
 #include "finishing/face_failure.h"
@@ -108,10 +110,12 @@ struct Job {
   double shank_clear = 0;  // the query distance of the shank capsule
 
   double lead_at(double kf, double ka) const { return lead_for(lead, max_lead, tool, kf, ka); }
-  // The edge at a frame with the lead the job uses there.
-  EdgeProfile edge(const StripFrame& f) const {
+  // The edge at a frame with the lead the job uses there, or `raised` if
+  // that is more (a lead the exact check raised).
+  EdgeProfile edge(const StripFrame& f, double raised = 0.0) const {
     const ContactFrame c{f.p, f.normal, f.feed, f.across};
-    return EdgeProfile(c, tool, lead_at(f.kappa_feed, f.kappa_across), tilt, f.kappa_across);
+    return EdgeProfile(c, tool, std::max(lead_at(f.kappa_feed, f.kappa_across), raised), tilt,
+                       f.kappa_across);
   }
   double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
   bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis) const {
@@ -120,9 +124,54 @@ struct Job {
   }
 };
 
+// The largest lead posed near a point: the positions whose lead the exact
+// check raised (above what the curvature asks for), hashed by contact
+// point in cells `radius` wide; the largest per point kept over every
+// posing added.
+struct Posed;
+
+class RaisedLeads {
+ public:
+  explicit RaisedLeads(double radius) : r_(radius) {}
+  void add(const PatchGrid& g, const std::vector<std::vector<Posed>>& runs);
+  // The largest raised lead within the radius of p, 0 if none.
+  double at(const gp_Pnt& p) const {
+    if (cells_.empty()) return 0.0;
+    double lead = 0.0;
+    const long cx = cell(p.X()), cy = cell(p.Y()), cz = cell(p.Z());
+    for (long i = cx - 1; i <= cx + 1; ++i)
+      for (long j = cy - 1; j <= cy + 1; ++j)
+        for (long k = cz - 1; k <= cz + 1; ++k) {
+          const auto it = cells_.find(key(i, j, k));
+          if (it == cells_.end()) continue;
+          for (const auto& [q, l] : it->second)
+            if (q.Distance(p) <= r_) lead = std::max(lead, l);
+        }
+    return lead;
+  }
+
+ private:
+  long cell(double x) const { return static_cast<long>(std::floor(x / r_)); }
+  static std::int64_t key(long i, long j, long k) {
+    return (std::int64_t(i) & 0x1FFFFF) | ((std::int64_t(j) & 0x1FFFFF) << 21) |
+           ((std::int64_t(k) & 0x1FFFFF) << 42);
+  }
+  double r_;
+  std::unordered_map<std::int64_t, std::vector<std::pair<gp_Pnt, double>>> cells_;
+};
+
+// A point of a path with the next path's point q at distance d: what the
+// certificate measures (pair_cusp()).
+struct CertPair {
+  StripFrame f;
+  ParamPt q;
+  double d = 0;
+};
+
 // Phase 1: the paths of one face in one working grid.
 struct Traced {
   std::vector<std::vector<FrontPiece>> paths;
+  std::vector<CertPair> pairs;
   double length = 0, max_spacing = 0, cusp = 0, max_width = 0, gap = 0;
   int min_hits = 0;
   bool capped = false;
@@ -146,14 +195,18 @@ StripFrame frame_with(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed)
 // The cusp between a path's point (frame f) and the next path at distance
 // d, q the next path's point there: the largest as the edge at f, at q and
 // at the ground between (the parameters' midpoint) sees it (the spacing
-// was the least of the three widths, so each edge meets h there).
-double pair_cusp(const PatchGrid& g, const Job& job, const StripFrame& f, const ParamPt& q,
-                 double d) {
-  double cu = job.edge(f).cusp(d);
-  const ParamPt mid{0.5 * (q.u + f.uv.u), 0.5 * (q.v + f.uv.v)};
-  for (const ParamPt& x : {q, mid}) {
-    const StripFrame fx = frame_with(g, x, f.feed);
-    if (fx.feed.SquareMagnitude() > 0.5) cu = std::max(cu, job.edge(fx).cusp(d));
+// was the least of the three widths, so each edge meets h there). The
+// leads are the job's there, or lead_f at f, lead_q at q and the larger
+// between where those are more (leads the exact check raised).
+double pair_cusp(const PatchGrid& g, const Job& job, const CertPair& c, double lead_f = 0.0,
+                 double lead_q = 0.0) {
+  double cu = job.edge(c.f, lead_f).cusp(c.d);
+  const ParamPt mid{0.5 * (c.q.u + c.f.uv.u), 0.5 * (c.q.v + c.f.uv.v)};
+  const ParamPt at[2] = {c.q, mid};
+  const double leads[2] = {lead_q, std::max(lead_f, lead_q)};
+  for (int k = 0; k < 2; ++k) {
+    const StripFrame fx = frame_with(g, at[k], c.f.feed);
+    if (fx.feed.SquareMagnitude() > 0.5) cu = std::max(cu, job.edge(fx, leads[k]).cusp(c.d));
   }
   return cu;
 }
@@ -178,9 +231,11 @@ double sampled_gap(const PatchGrid& g, const TrimDomain& trim, bool transposed,
 // certificate: for each point p with a successor, the distance d to the
 // next path and pair_cusp() there.
 Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job,
-                  double h, const ProgressSlice& progress) {
+                  const RaisedLeads& hint, double h, const ProgressSlice& progress) {
   Traced out;
-  const StripWidth width = [&job, h](const StripFrame& f) { return job.width(f, h); };
+  const StripWidth width = [&job, &hint, h](const StripFrame& f) {
+    return 2 * job.edge(f, hint.at(f.p)).half_width(h);
+  };
   FrontSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
   s.min_spacing = 0.02 * job.flat_width;
@@ -211,9 +266,10 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
         const double d = next.distance(pc[k].p, &at);
         out.max_spacing = std::max(out.max_spacing, d);
         out.max_width = std::max(out.max_width, pc[k].spacing);
-        ParamPt q;
-        nearest_on(g, at, pc[k].uv, &q);
-        out.cusp = std::max(out.cusp, pair_cusp(g, job, f, q, d));
+        CertPair c{f, {}, d};
+        nearest_on(g, at, pc[k].uv, &c.q);
+        out.cusp = std::max(out.cusp, pair_cusp(g, job, c, hint.at(f.p), hint.at(at)));
+        out.pairs.push_back(c);
       }
     }
     out.paths.push_back(std::move(front));
@@ -228,13 +284,14 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
 // certificate as trace_face(), the next path's point taken at the same u
 // (farther than the nearest, so the cusp measured is not less).
 Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job,
-                       double h, const ProgressSlice& progress) {
+                       const RaisedLeads& hint, double h, const ProgressSlice& progress) {
   Traced out;
   IsoStripSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
   IsoStripPaths iso = strip_isocurves(
-      g, [&job, h](const StripFrame& f) { return job.width(f, h); }, s,
-      [&progress] { progress.check(); });
+      g,
+      [&job, &hint, h](const StripFrame& f) { return 2 * job.edge(f, hint.at(f.p)).half_width(h); },
+      s, [&progress] { progress.check(); });
   out.min_hits = iso.min_hits;
   out.capped = iso.capped;
   PathIndex index(job.flat_width);
@@ -248,10 +305,12 @@ Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transpos
         const StripFrame f = frame_at(g, pc, k);
         if (f.feed.SquareMagnitude() < 0.5) continue;
         const ParamPt& q = iso.next[i][j][k];
-        const double d = pc[k].p.Distance(g.eval(q.u, q.v));
-        out.max_spacing = std::max(out.max_spacing, d);
+        const gp_Pnt at = g.eval(q.u, q.v);
+        const CertPair c{f, q, pc[k].p.Distance(at)};
+        out.max_spacing = std::max(out.max_spacing, c.d);
         out.max_width = std::max(out.max_width, pc[k].spacing);
-        out.cusp = std::max(out.cusp, pair_cusp(g, job, f, q, d));
+        out.cusp = std::max(out.cusp, pair_cusp(g, job, c, hint.at(f.p), hint.at(at)));
+        out.pairs.push_back(c);
       }
     }
   out.paths = std::move(iso.paths);
@@ -344,8 +403,9 @@ struct Posed {
   ParamPt uv;
   ToolPose pose;
   double lead = 0;
-  double depth = 0;  // tool_depth of the pose, computed once by Poser::pose
-  bool raised = false;
+  double depth = 0;           // tool_depth of the pose, computed once by Poser::pose
+  bool raised = false;        // lead above the job's lead
+  bool raised_exact = false;  // ... and above what the curvature asks for there
 };
 
 struct PoseOut {
@@ -364,6 +424,15 @@ struct PoseOut {
     range_left += o.range_left;
   }
 };
+
+void RaisedLeads::add(const PatchGrid& g, const std::vector<std::vector<Posed>>& runs) {
+  for (const std::vector<Posed>& run : runs)
+    for (const Posed& x : run)
+      if (x.raised_exact) {
+        const gp_Pnt p = g.eval(x.uv.u, x.uv.v);
+        cells_[key(cell(p.X()), cell(p.Y()), cell(p.Z()))].push_back({p, x.lead});
+      }
+}
 
 class Poser {
  public:
@@ -427,12 +496,15 @@ class Poser {
     return (A >= job_.p.a_min - eps && A <= job_.p.a_max + eps) ||
            (-A >= job_.p.a_min - eps && -A <= job_.p.a_max + eps);
   }
+  // The pose at uv with the feed along dir, its lead the job's there,
+  // raised while the exact check finds it digging in.
   bool pose(const ParamPt& uv, const gp_Vec& dir, Posed* x) const {
     ContactFrame c;
     if (!contact_frame(g_, uv, dir, &c)) return false;
     const double kf = normal_curvature(g_, uv, c.f), ka = normal_curvature(g_, uv, c.a);
     x->uv = uv;
-    x->lead = job_.lead_at(kf, ka);
+    const double curvature_lead = job_.lead_at(kf, ka);
+    x->lead = curvature_lead;
     x->raised = x->lead > job_.lead + 1e-9;
     x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
     // The exact check: raise the lead in 2 degree steps while the end digs in.
@@ -443,6 +515,7 @@ class Poser {
       x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
       x->depth = depth(*x);
     }
+    x->raised_exact = x->lead > curvature_lead + 1e-9;
     return true;
   }
   // Positions inserted between a and b (not included) into out.
@@ -466,6 +539,21 @@ class Poser {
   bool transposed_;
   const Job& job_;
 };
+
+// The certificate again with the leads the poses used where the exact
+// check raised them: each pair's points take the largest raised lead posed
+// within half a path sample of them (positions between the samples
+// included), the pairs near no raised position keep what the trace
+// measured. The spacing followed the leads the curvature asks for; this
+// makes the certificate hold for the leads posted.
+double posed_cusp(const PatchGrid& g, const Job& job, const Traced& t, const RaisedLeads& leads) {
+  double cusp = t.cusp;
+  for (const CertPair& c : t.pairs) {
+    const double lf = leads.at(c.f.p), lq = leads.at(g.eval(c.q.u, c.q.v));
+    if (lf > 0 || lq > 0) cusp = std::max(cusp, pair_cusp(g, job, c, lf, lq));
+  }
+  return cusp;
+}
 
 void check_faces(const std::vector<int>& faces, std::size_t count) {
   if (faces.empty()) throw InvalidArgument("faces: no face picked");
@@ -512,12 +600,32 @@ void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& f
 struct FaceRun {
   Traced best;
   PoseOut posed;
+  int respaced = 0;  // times traced again for the leads the exact check raised
 };
+
+// One direction's paths for the cusp h': spaced for `target` first; where
+// the measured certificate exceeds h' (the next path runs a little farther
+// than the march went, where points were resampled, cut out or joined),
+// again for a target scaled down by the excess (the cusp grows about
+// linearly with the target), up to three times.
+Traced trace_to(const PatchGrid& g, const Face& face, bool transposed, const Job& job,
+                const RaisedLeads& hint, double target, const ProgressSlice& slice) {
+  Traced t;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    t = job.p.strategy == FiveAxisStrategy::NormalIsocurves
+            ? trace_isocurves(g, *face.trim, transposed, job, hint, target, slice)
+            : trace_face(g, *face.trim, transposed, job, hint, target, slice);
+    if (t.cusp <= job.h_eff) break;
+    target *= 0.98 * job.h_eff / t.cusp;
+  }
+  return t;
+}
 
 FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice) {
   const FiveAxisParams& p = job.p;
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (p.direction != IsoDirection::Auto) dirs = {p.direction};
+  RaisedLeads raised(0.5 * std::min(job.flat_width, p.tool_radius));
   // Both directions traced at once, each on its own grid, then compared in
   // order (the result does not depend on the threads).
   std::vector<std::optional<PatchGrid>> grids(dirs.size());
@@ -525,30 +633,15 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   for_each_index(dirs.size(), p.threads, [&](std::size_t k) {
     const bool tr = dirs[k] == IsoDirection::U;
     grids[k].emplace(tr ? face.grid.transposed() : face.grid);
-    const PatchGrid& g = *grids[k];
-    // Spaced for h' first; where the measured certificate exceeds it
-    // (the next path runs a little farther than the march went, where
-    // points were resampled, cut out or joined), again for a target
-    // scaled down by the excess (the cusp grows about linearly with the
-    // target), up to three times.
-    double target = job.h_eff;
-    Traced t;
-    for (int attempt = 0; attempt < 4; ++attempt) {
-      t = p.strategy == FiveAxisStrategy::NormalIsocurves
-              ? trace_isocurves(g, *face.trim, tr, job, target, slice)
-              : trace_face(g, *face.trim, tr, job, target, slice);
-      if (t.cusp <= job.h_eff) break;
-      target *= 0.98 * job.h_eff / t.cusp;
-    }
-    traced[k] = std::move(t);
+    traced[k] = trace_to(*grids[k], face, tr, job, raised, job.h_eff, slice);
   });
   std::optional<PatchGrid> best_grid;
   FaceRun out;
-  Traced& best = out.best;
   bool best_transposed = false;
   for (std::size_t k = 0; k < dirs.size(); ++k) {
     const bool tr = dirs[k] == IsoDirection::U;
     Traced& t = traced[k];
+    const Traced& best = out.best;
     // The direction that covers the face (no sampled gap wider than
     // half the strip) and meets h' by its certificate, then the shorter.
     auto meets = [&job](const Traced& x) {
@@ -556,28 +649,44 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     };
     if (!best_grid || (meets(t) && !meets(best)) ||
         (meets(t) == meets(best) && t.length < best.length)) {
-      best = std::move(t);
+      out.best = std::move(t);
       best_grid.emplace(std::move(*grids[k]));
       best_transposed = tr;
     }
   }
   const PatchGrid& g = *best_grid;
-  const std::vector<Run> clipped =
-      clip_face(g, *face.trim, best_transposed, best, 0.1 * job.b.chord);
-  // The runs posed at once, each into its own part, joined in order; the
-  // tracing counts as the first half of the face's progress, the runs
-  // posed so far as the second.
-  slice.report(0.5);
-  const ProgressSlice posing = slice.sub(0.5, 1.0);
-  std::atomic<std::size_t> posed_runs{0};
   const Poser poser(g, *face.trim, best_transposed, job);
-  std::vector<PoseOut> parts(clipped.size());
-  for_each_index(clipped.size(), p.threads, [&](std::size_t k) {
-    slice.check();
-    poser.run(clipped[k], &parts[k]);
-    posing.report(double(++posed_runs) / double(clipped.size()));
-  });
-  for (PoseOut& part : parts) out.posed.append(std::move(part));
+  // The tracing counts as the first half of the face's progress, the
+  // posing as the second. Where the exact check raised leads above what
+  // the curvature asks for, the strips there are narrower than spaced for:
+  // the certificate is measured again with the leads posed, and if it
+  // exceeds h' the paths are traced again with the spacing following the
+  // leads raised so far (the last time also for a target scaled down by
+  // the excess) and posed again, up to twice.
+  const double ends[4] = {0.5, 0.8, 0.93, 1.0};
+  double target = job.h_eff;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    if (attempt > 0) out.best = trace_to(g, face, best_transposed, job, raised, target, slice);
+    const std::vector<Run> clipped =
+        clip_face(g, *face.trim, best_transposed, out.best, 0.1 * job.b.chord);
+    // The runs posed at once, each into its own part, joined in order.
+    slice.report(ends[attempt]);
+    const ProgressSlice posing = slice.sub(ends[attempt], ends[attempt + 1]);
+    std::atomic<std::size_t> posed_runs{0};
+    std::vector<PoseOut> parts(clipped.size());
+    for_each_index(clipped.size(), p.threads, [&](std::size_t k) {
+      slice.check();
+      poser.run(clipped[k], &parts[k]);
+      posing.report(double(++posed_runs) / double(clipped.size()));
+    });
+    out.posed = PoseOut();
+    for (PoseOut& part : parts) out.posed.append(std::move(part));
+    raised.add(g, out.posed.runs);
+    out.best.cusp = posed_cusp(g, job, out.best, raised);
+    if (out.best.cusp <= job.h_eff || attempt == 2) break;
+    ++out.respaced;
+    if (attempt == 1) target *= 0.98 * job.h_eff / out.best.cusp;
+  }
   return out;
 }
 
@@ -674,6 +783,11 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
                                 std::to_string(best.min_hits) + " points");
     if (best.capped)
       result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
+    if (run.respaced > 0)
+      result.warnings.push_back(face_label(face.index) + ": traced again " +
+                                std::to_string(run.respaced) +
+                                (run.respaced == 1 ? " time" : " times") +
+                                " with the strips narrowed where the exact check raised the lead");
     m.unreachable_length += posed.unreachable;
     m.lead_raised_points += posed.raised;
     m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
