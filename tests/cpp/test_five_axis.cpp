@@ -29,6 +29,16 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
+// A Bezier saddle, 16 x 12 mm, 1.5 mm up and down (concave along y).
+TopoDS_Face bezier_saddle() {
+  TColgp_Array2OfPnt poles(1, 3, 1, 3);
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j)
+      poles(i, j) =
+          gp_Pnt(8.0 * (i - 1), 6.0 * (j - 1), 1.5 * ((i - 2) * (i - 2) - (j - 2) * (j - 2)));
+  return BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+}
+
 TEST(FiveAxis, HalfWidthOnFlatGroundIsTheEllipses) {
   // The lower edge seen along the feed: z = R sin(l) (1 - sqrt(1 - x^2 / R^2)).
   for (double lead : {2.0, 5.0, 15.0}) {
@@ -329,12 +339,7 @@ TEST(FiveAxis, DegenerateFaceBesideAGoodOneIsSkipped) {
 TEST(FiveAxis, OneAndManyThreadsGiveTheSamePath) {
   // A Bezier saddle, 16 x 12 mm (the lead raised on its concave side), both
   // directions traced and the runs posed on 1 and on 4 threads.
-  TColgp_Array2OfPnt poles(1, 3, 1, 3);
-  for (int i = 1; i <= 3; ++i)
-    for (int j = 1; j <= 3; ++j)
-      poles(i, j) =
-          gp_Pnt(8.0 * (i - 1), 6.0 * (j - 1), 1.5 * ((i - 2) * (i - 2) - (j - 2) * (j - 2)));
-  const TopoDS_Face face = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  const TopoDS_Face face = bezier_saddle();
   FiveAxisParams p;
   p.scallop_height = 0.02;
   p.threads = 1;
@@ -388,12 +393,7 @@ TEST(FiveAxis, SpacingFollowsTheLeadsTheExactCheckRaised) {
 TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
   // The Bezier saddle above: adaptive isocurves with the tilted flat end's
   // strip, the lead raised on the concave side as for the other strategy.
-  TColgp_Array2OfPnt poles(1, 3, 1, 3);
-  for (int i = 1; i <= 3; ++i)
-    for (int j = 1; j <= 3; ++j)
-      poles(i, j) =
-          gp_Pnt(8.0 * (i - 1), 6.0 * (j - 1), 1.5 * ((i - 2) * (i - 2) - (j - 2) * (j - 2)));
-  const TopoDS_Face face = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  const TopoDS_Face face = bezier_saddle();
   FiveAxisParams p;
   p.scallop_height = 0.02;
   p.strategy = FiveAxisStrategy::NormalIsocurves;
