@@ -373,12 +373,14 @@ class ObjectFiveAxisStripFinish(IsoCAMOp):
         )
         op_base.write_outputs(obj, _OUTPUTS, metrics)
         log.info(
-            "IsoCAM %s: %d paths, strip %.3f mm on flat ground, cutting %.1f mm, rapid %.1f mm, "
+            "IsoCAM %s (%s): %d paths, strip %.3f mm on flat ground, cutting %.1f mm, "
+            "rapid %.1f mm, "
             "guaranteed scallop %.5f mm (requested %.5f), guaranteed overcut %.5f mm, "
             "lead up to %.1f deg, rotary travel A %.0f deg C %.0f deg, unreachable %.1f mm, "
             "machine time %.1f min; %.2f s\n"
             % (
                 obj.Label,
+                obj.Strategy,
                 metrics["paths"],
                 metrics["flat_strip_width"],
                 metrics["cutting_length"],
