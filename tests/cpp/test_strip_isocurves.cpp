@@ -4,9 +4,11 @@
 // its own search of the curve above each sample, every two adjacent curves
 // within the width at the same u, each sample covered from vmin to vmax;
 // sub-isocurves only where needed (fewer samples than complete isocurves at
-// the finest spacing used); a width of nothing ends at the minimum spacing.
+// the finest spacing used), the progress rising with v; a width of nothing
+// ends at the minimum spacing; a cancel stops it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -34,10 +36,16 @@ TEST(StripIsocurves, AdjacentCurvesWithinTheWidthOnlyWhereNeeded) {
   const double w = 3.0;
   IsoStripSettings s;
   s.sample_max = 1.0;
-  int calls = 0;
+  std::vector<double> reported;
   const IsoStripPaths iso = strip_isocurves(
-      g, [w](const StripFrame&) { return w; }, s, [&calls] { ++calls; });
-  EXPECT_GT(calls, 0);
+      g, [w](const StripFrame&) { return w; }, s, [&reported](double f) { reported.push_back(f); });
+  // The progress rises from 0 to 1 through values between.
+  ASSERT_GT(reported.size(), 10u);
+  EXPECT_EQ(reported.front(), 0.0);
+  EXPECT_EQ(reported.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+  EXPECT_TRUE(
+      std::any_of(reported.begin(), reported.end(), [](double f) { return f > 0.3 && f < 0.7; }));
   EXPECT_EQ(iso.min_hits, 0);
   EXPECT_FALSE(iso.capped);
   const auto at = levels_at(iso);
@@ -82,7 +90,7 @@ TEST(StripIsocurves, WidthOfNothingStopsAtTheMinimumSpacing) {
   s.sample_max = 5.0;
   s.min_dv = 1e-3;
   const IsoStripPaths iso = strip_isocurves(
-      g, [](const StripFrame&) { return 0.0; }, s, [] {});
+      g, [](const StripFrame&) { return 0.0; }, s, [](double) {});
   EXPECT_GT(iso.min_hits, 0);
   EXPECT_LT(iso.paths.size(), 2050u);  // about 1 / min_dv levels
 }
@@ -92,7 +100,7 @@ TEST(StripIsocurves, CancelStopsIt) {
   int calls = 0;
   EXPECT_THROW(strip_isocurves(
                    g, [](const StripFrame&) { return 0.5; }, IsoStripSettings{},
-                   [&calls] {
+                   [&calls](double) {
                      if (++calls > 3) throw std::runtime_error("cancelled");
                    }),
                std::runtime_error);

@@ -245,6 +245,14 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
   std::size_t samples = 0;
   while (!front.empty()) {
     progress.check();
+    // Progress: where the front is in v (it starts at vmin), not beyond 0.99.
+    double v = 0.0, n = 0.0;
+    for (const FrontPiece& pc : front)
+      for (const FrontPoint& x : pc) {
+        v += x.uv.v;
+        n += 1;
+      }
+    if (n > 0) progress.report(std::min(0.99, (v / n - g.vmin()) / (g.vmax() - g.vmin())));
     if (out.paths.size() >= max_paths || samples > 20000000) {
       out.capped = true;
       out.paths.push_back(front);
@@ -291,7 +299,11 @@ Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transpos
   IsoStripPaths iso = strip_isocurves(
       g,
       [&job, &hint, h](const StripFrame& f) { return 2 * job.edge(f, hint.at(f.p)).half_width(h); },
-      s, [&progress] { progress.check(); });
+      s,
+      [&progress](double f) {
+        progress.check();
+        progress.report(f);
+      });
   out.min_hits = iso.min_hits;
   out.capped = iso.capped;
   PathIndex index(job.flat_width);
@@ -627,13 +639,15 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   if (p.direction != IsoDirection::Auto) dirs = {p.direction};
   RaisedLeads raised(0.5 * std::min(job.flat_width, p.tool_radius));
   // Both directions traced at once, each on its own grid, then compared in
-  // order (the result does not depend on the threads).
+  // order (the result does not depend on the threads). The tracing is the
+  // first half of the face's progress, the posing the second.
   std::vector<std::optional<PatchGrid>> grids(dirs.size());
   std::vector<Traced> traced(dirs.size());
+  TaskProgress tracing(slice.sub(0.0, 0.5), dirs.size());
   for_each_index(dirs.size(), p.threads, [&](std::size_t k) {
     const bool tr = dirs[k] == IsoDirection::U;
     grids[k].emplace(tr ? face.grid.transposed() : face.grid);
-    traced[k] = trace_to(*grids[k], face, tr, job, raised, job.h_eff, slice);
+    traced[k] = trace_to(*grids[k], face, tr, job, raised, job.h_eff, tracing.task(k));
   });
   std::optional<PatchGrid> best_grid;
   FaceRun out;
@@ -656,8 +670,7 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   }
   const PatchGrid& g = *best_grid;
   const Poser poser(g, *face.trim, best_transposed, job);
-  // The tracing counts as the first half of the face's progress, the
-  // posing as the second. Where the exact check raised leads above what
+  // Where the exact check raised leads above what
   // the curvature asks for, the strips there are narrower than spaced for:
   // the certificate is measured again with the leads posed, and if it
   // exceeds h' the paths are traced again with the spacing following the
@@ -666,7 +679,9 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   const double ends[4] = {0.5, 0.8, 0.93, 1.0};
   double target = job.h_eff;
   for (int attempt = 0; attempt < 3; ++attempt) {
-    if (attempt > 0) out.best = trace_to(g, face, best_transposed, job, raised, target, slice);
+    if (attempt > 0)
+      out.best = trace_to(g, face, best_transposed, job, raised, target,
+                          slice.sub(ends[attempt], ends[attempt]));
     const std::vector<Run> clipped =
         clip_face(g, *face.trim, best_transposed, out.best, 0.1 * job.b.chord);
     // The runs posed at once, each into its own part, joined in order.

@@ -48,8 +48,8 @@ std::vector<double> sample_us(const PatchGrid& g, double step) {
 class Builder {
  public:
   Builder(const PatchGrid& g, const StripWidth& width, const IsoStripSettings& s,
-          const std::function<void()>& check)
-      : g_(g), width_(width), s_(s), check_(check), us_(sample_us(g, s.sample_max)) {}
+          const std::function<void(double)>& progress)
+      : g_(g), width_(width), s_(s), progress_(progress), us_(sample_us(g, s.sample_max)) {}
 
   IsoStripPaths build() {
     const Range all{0, us_.size() - 1};
@@ -57,6 +57,7 @@ class Builder {
     levels_[g_.vmax()].push_back(all);
     points_ = 2 * us_.size();
     split(g_.vmin(), g_.vmax(), {all});
+    progress_(1.0);
     return collect();
   }
 
@@ -101,9 +102,10 @@ class Builder {
     return d <= width_at(va, i) && d <= width_at(vb, i) && d <= width_at(0.5 * (va + vb), i);
   }
 
-  // Algorithm 1 between the curves va < vb over `ranges` of samples.
+  // Algorithm 1 between the curves va < vb over `ranges` of samples
+  // (depth first, the lower pair first: va never decreases).
   void split(double va, double vb, const std::vector<Range>& ranges) {
-    check_();
+    progress_((va - g_.vmin()) / (g_.vmax() - g_.vmin()));
     std::vector<Range> bad;
     for (const Range& r : ranges) {
       for (std::size_t i = r.first; i <= r.second; ++i) {
@@ -179,7 +181,7 @@ class Builder {
   const PatchGrid& g_;
   const StripWidth& width_;
   const IsoStripSettings& s_;
-  const std::function<void()>& check_;
+  const std::function<void(double)>& progress_;
   std::vector<double> us_;
   std::map<double, Level> cache_;
   std::map<double, std::vector<Range>> levels_;
@@ -191,8 +193,9 @@ class Builder {
 }  // namespace
 
 IsoStripPaths strip_isocurves(const PatchGrid& g, const StripWidth& width,
-                              const IsoStripSettings& s, const std::function<void()>& check) {
-  return Builder(g, width, s, check).build();
+                              const IsoStripSettings& s,
+                              const std::function<void(double)>& progress) {
+  return Builder(g, width, s, progress).build();
 }
 
 }  // namespace isocam

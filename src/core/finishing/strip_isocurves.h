@@ -46,8 +46,10 @@ struct IsoStripPaths {
   bool capped = false;
 };
 
-// `check` is called now and then (it may throw to cancel).
+// `progress` is called now and then with the fraction of the v range
+// done, never less than before (it may throw to cancel).
 IsoStripPaths strip_isocurves(const PatchGrid& g, const StripWidth& width,
-                              const IsoStripSettings& s, const std::function<void()>& check);
+                              const IsoStripSettings& s,
+                              const std::function<void(double)>& progress);
 
 }  // namespace isocam
