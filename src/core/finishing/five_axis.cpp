@@ -117,7 +117,9 @@ struct Job {
     return EdgeProfile(c, tool, std::max(lead_at(f.kappa_feed, f.kappa_across), raised), tilt,
                        f.kappa_across);
   }
-  double width(const StripFrame& f, double h) const { return 2 * edge(f).half_width(h); }
+  double width(const StripFrame& f, double h, double raised = 0.0) const {
+    return 2 * edge(f, raised).half_width(h);
+  }
   bool capsule_clear(const gp_Pnt& tip, const gp_Vec& axis) const {
     return model->clear(tip.Translated(axis * p.tool_radius), tip.Translated(axis * p.tool_length),
                         shank_clear);
@@ -166,6 +168,7 @@ struct CertPair {
   StripFrame f;
   ParamPt q;
   double d = 0;
+  gp_Pnt q_point;  // the surface point at q
 };
 
 // Phase 1: the paths of one face in one working grid.
@@ -234,7 +237,7 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
                   const RaisedLeads& hint, double h, const ProgressSlice& progress) {
   Traced out;
   const StripWidth width = [&job, &hint, h](const StripFrame& f) {
-    return 2 * job.edge(f, hint.at(f.p)).half_width(h);
+    return job.width(f, h, hint.at(f.p));
   };
   FrontSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
@@ -274,8 +277,9 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
         const double d = next.distance(pc[k].p, &at);
         out.max_spacing = std::max(out.max_spacing, d);
         out.max_width = std::max(out.max_width, pc[k].spacing);
-        CertPair c{f, {}, d};
+        CertPair c{f, {}, d, {}};
         nearest_on(g, at, pc[k].uv, &c.q);
+        c.q_point = g.eval(c.q.u, c.q.v);
         out.cusp = std::max(out.cusp, pair_cusp(g, job, c, hint.at(f.p), hint.at(at)));
         out.pairs.push_back(c);
       }
@@ -297,9 +301,7 @@ Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transpos
   IsoStripSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
   IsoStripPaths iso = strip_isocurves(
-      g,
-      [&job, &hint, h](const StripFrame& f) { return 2 * job.edge(f, hint.at(f.p)).half_width(h); },
-      s,
+      g, [&job, &hint, h](const StripFrame& f) { return job.width(f, h, hint.at(f.p)); }, s,
       [&progress](double f) {
         progress.check();
         progress.report(f);
@@ -318,7 +320,7 @@ Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transpos
         if (f.feed.SquareMagnitude() < 0.5) continue;
         const ParamPt& q = iso.next[i][j][k];
         const gp_Pnt at = g.eval(q.u, q.v);
-        const CertPair c{f, q, pc[k].p.Distance(at)};
+        const CertPair c{f, q, pc[k].p.Distance(at), at};
         out.max_spacing = std::max(out.max_spacing, c.d);
         out.max_width = std::max(out.max_width, pc[k].spacing);
         out.cusp = std::max(out.cusp, pair_cusp(g, job, c, hint.at(f.p), hint.at(at)));
@@ -561,7 +563,7 @@ class Poser {
 double posed_cusp(const PatchGrid& g, const Job& job, const Traced& t, const RaisedLeads& leads) {
   double cusp = t.cusp;
   for (const CertPair& c : t.pairs) {
-    const double lf = leads.at(c.f.p), lq = leads.at(g.eval(c.q.u, c.q.v));
+    const double lf = leads.at(c.f.p), lq = leads.at(c.q_point);
     if (lf > 0 || lq > 0) cusp = std::max(cusp, pair_cusp(g, job, c, lf, lq));
   }
   return cusp;
