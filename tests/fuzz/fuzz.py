@@ -679,7 +679,7 @@ def main(argv=None):
     ap.add_argument("--cases", type=int, default=300)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--timeout", type=float, default=60.0)
+    ap.add_argument("--timeout", type=float, default=150.0)
     ap.add_argument("--memory-mb", type=int, default=4096)
     ap.add_argument("--freecad", type=int, default=0, help="FreeCAD cases (freecadcmd) too")
     ap.add_argument("--out", default=None, help="folder for the failing cases")

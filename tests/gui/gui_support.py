@@ -56,9 +56,18 @@ def children(widget, cls):
     FreeCAD deleted in C++ (a closed dialog's button box) can stand at the
     address of a new, different object, and a call through it crashed FreeCAD
     (SIGSEGV in QDialogButtonBox::button after a cancelled computation).
-    QObject::inherits asks the live object's own meta-object."""
+    QObject::inherits asks the live object's own meta-object. A child that
+    FreeCAD deletes between the listing and that question (the task panel
+    closing while we poll) raises RuntimeError and is no longer a child."""
     name = cls.staticMetaObject.className()
-    return [child for child in widget.findChildren(cls) if child.inherits(name)]
+    found = []
+    for child in widget.findChildren(cls):
+        try:
+            if child.inherits(name):
+                found.append(child)
+        except RuntimeError:
+            pass
+    return found
 
 
 def later(seconds, function):
@@ -318,9 +327,12 @@ def task_button(which):
     show_tasks()
     window = FreeCADGui.getMainWindow()
     for box in children(window, QtGui.QDialogButtonBox):
-        button = box.button(which)
-        if button is not None and button.isVisible():
-            return button
+        try:
+            button = box.button(which)
+            if button is not None and button.isVisible():
+                return button
+        except RuntimeError:  # the box was deleted since children() listed it
+            continue
     return None
 
 
