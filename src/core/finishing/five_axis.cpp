@@ -420,6 +420,7 @@ struct Posed {
   double depth = 0;           // tool_depth of the pose, computed once by Poser::pose
   bool raised = false;        // lead above the job's lead
   bool raised_exact = false;  // ... and above what the curvature asks for there
+  double t = 0.0;             // where on its run segment (Poser::refine)
 };
 
 struct PoseOut {
@@ -454,13 +455,30 @@ class Poser {
       : g_(g), trim_(trim), transposed_(transposed), job_(job) {}
 
   void run(const Run& r, PoseOut* out) const {
+    // The samples, each fed along the chord of its neighbours; between two
+    // the position, feed and lead interpolated by the parameter t along
+    // the segment, so that a pose depends on where it is only.
     std::vector<Posed> pts;
+    std::vector<gp_Vec> feed(r.size());
+    Posed prev;
+    std::size_t prev_k = 0;
     for (std::size_t k = 0; k < r.size(); ++k) {
       const std::size_t a = k > 0 ? k - 1 : k, b = k + 1 < r.size() ? k + 1 : k;
+      feed[k] = gp_Vec(g_.eval(r[a].u, r[a].v), g_.eval(r[b].u, r[b].v));
+      if (feed[k].SquareMagnitude() > 1e-300) feed[k].Normalize();
       Posed x;
-      if (!pose(r[k], gp_Vec(g_.eval(r[a].u, r[a].v), g_.eval(r[b].u, r[b].v)), &x)) continue;
-      if (!pts.empty()) refine(pts.back(), x, 0, &pts);
+      if (!pose(r[k], feed[k], &x)) continue;
+      x.t = 1.0;
+      if (!pts.empty()) {
+        const Segment seg{r[prev_k], r[k], feed[prev_k], feed[k], prev.lead, x.lead};
+        Posed from = prev;
+        from.t = 0.0;
+        refine(seg, from, x, 0, &pts);
+      }
+      x.t = 0.0;
       pts.push_back(x);
+      prev = x;
+      prev_k = k;
     }
     // The checks, splitting the run where a position fails.
     std::vector<Posed> cur;
@@ -512,13 +530,13 @@ class Poser {
   }
   // The pose at uv with the feed along dir, its lead the job's there,
   // raised while the exact check finds it digging in.
-  bool pose(const ParamPt& uv, const gp_Vec& dir, Posed* x) const {
+  bool pose(const ParamPt& uv, const gp_Vec& dir, Posed* x, double min_lead = 0.0) const {
     ContactFrame c;
     if (!contact_frame(g_, uv, dir, &c)) return false;
     const double kf = normal_curvature(g_, uv, c.f), ka = normal_curvature(g_, uv, c.a);
     x->uv = uv;
     const double curvature_lead = job_.lead_at(kf, ka);
-    x->lead = curvature_lead;
+    x->lead = std::max(curvature_lead, min_lead);
     x->raised = x->lead > job_.lead + 1e-9;
     x->pose = pose_at(c, job_.tool, x->lead, job_.tilt);
     // The exact check: raise the lead in 2 degree steps while the end digs in.
@@ -532,20 +550,29 @@ class Poser {
     x->raised_exact = x->lead > curvature_lead + 1e-9;
     return true;
   }
-  // Positions inserted between a and b (not included) into out.
-  void refine(const Posed& a, const Posed& b, int level, std::vector<Posed>* out) const {
-    if (level >= 12) return;
+  struct Segment {
+    ParamPt a, b;
+    gp_Vec fa, fb;
+    double la, lb;
+  };
+  // Positions inserted between a and b (not included) into out, on `seg`
+  // at their parameters t.
+  void refine(const Segment& seg, const Posed& a, const Posed& b, int level,
+              std::vector<Posed>* out) const {
     const double turn = a.pose.axis.Angle(b.pose.axis);
-    const ParamPt m{0.5 * (a.uv.u + b.uv.u), 0.5 * (a.uv.v + b.uv.v)};
+    const double t = 0.5 * (a.t + b.t);
+    const ParamPt m{seg.a.u + t * (seg.b.u - seg.a.u), seg.a.v + t * (seg.b.v - seg.a.v)};
     Posed x;
-    if (!pose(m, gp_Vec(g_.eval(a.uv.u, a.uv.v), g_.eval(b.uv.u, b.uv.v)), &x)) return;
+    if (!pose(m, seg.fa * (1 - t) + seg.fb * t, &x, (1 - t) * seg.la + t * seg.lb)) return;
+    x.t = t;
     const gp_Pnt mid((a.pose.tip.XYZ() + b.pose.tip.XYZ()) * 0.5);
     if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord &&
         ac_midpoint(a.pose.axis, b.pose.axis).Angle(x.pose.axis) <= kAxisDeviation)
       return;
-    refine(a, x, level + 1, out);
+    if (level >= 12) return;
+    refine(seg, a, x, level + 1, out);
     out->push_back(x);
-    refine(x, b, level + 1, out);
+    refine(seg, x, b, level + 1, out);
   }
 
   const PatchGrid& g_;
@@ -672,15 +699,15 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   }
   const PatchGrid& g = *best_grid;
   const Poser poser(g, *face.trim, best_transposed, job);
-  // Where the exact check raised leads above what
-  // the curvature asks for, the strips there are narrower than spaced for:
-  // the certificate is measured again with the leads posed, and if it
-  // exceeds h' the paths are traced again with the spacing following the
-  // leads raised so far (the last time also for a target scaled down by
-  // the excess) and posed again, up to twice.
-  const double ends[4] = {0.5, 0.8, 0.93, 1.0};
+  // Where the exact check raised leads above what the curvature asks for,
+  // the strips there are narrower than spaced for: the certificate is
+  // measured again with the leads posed, and if it exceeds h' the paths
+  // are traced again with the spacing following the leads raised so far
+  // (from the second time on also for a target scaled down by the excess)
+  // and posed again, up to three times.
+  const double ends[5] = {0.5, 0.8, 0.9, 0.96, 1.0};
   double target = job.h_eff;
-  for (int attempt = 0; attempt < 3; ++attempt) {
+  for (int attempt = 0; attempt < 4; ++attempt) {
     if (attempt > 0)
       out.best = trace_to(g, face, best_transposed, job, raised, target,
                           slice.sub(ends[attempt], ends[attempt]));
@@ -700,9 +727,9 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     for (PoseOut& part : parts) out.posed.append(std::move(part));
     raised.add(g, out.posed.runs);
     out.best.cusp = posed_cusp(g, job, out.best, raised);
-    if (out.best.cusp <= job.h_eff || attempt == 2) break;
+    if (out.best.cusp <= job.h_eff || attempt == 3) break;
     ++out.respaced;
-    if (attempt == 1) target *= 0.98 * job.h_eff / out.best.cusp;
+    if (attempt >= 1) target *= 0.98 * job.h_eff / out.best.cusp;
   }
   return out;
 }
