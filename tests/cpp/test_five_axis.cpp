@@ -359,6 +359,7 @@ TEST(FiveAxis, OneAndManyThreadsGiveTheSamePath) {
   EXPECT_EQ(one.metrics.lead_raised_points, four.metrics.lead_raised_points);
   EXPECT_EQ(one.metrics.unreachable_length, four.metrics.unreachable_length);
   EXPECT_LE(one.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
+  EXPECT_EQ(one.metrics.unconverged_moves, 0);
 }
 
 TEST(FiveAxis, SpacingFollowsTheLeadsTheExactCheckRaised) {
@@ -388,6 +389,11 @@ TEST(FiveAxis, SpacingFollowsTheLeadsTheExactCheckRaised) {
   EXPECT_LE(r.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
   EXPECT_EQ(r.metrics.unreachable_length, 0.0);
   EXPECT_LE(2 * r.metrics.coverage_gap, 1.05 * r.metrics.flat_strip_width);
+  // Each position is posed by where it is on its segment (contact, feed
+  // and the least lead interpolated along it), so the halving between two
+  // positions converges also where the exact check raised the lead.
+  EXPECT_EQ(r.metrics.unconverged_moves, 0);
+  for (const std::string& w : r.warnings) EXPECT_EQ(w.find("12 halvings"), std::string::npos) << w;
 }
 
 TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {

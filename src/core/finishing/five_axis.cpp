@@ -427,6 +427,7 @@ struct PoseOut {
   std::vector<std::vector<Posed>> runs;
   double unreachable = 0, max_lead = 0;
   int raised = 0, gouge_left = 0, shank_left = 0, range_left = 0;
+  int unconverged = 0;  // refinements that reached their depth limit
 
   // o's runs after these, its counts added.
   void append(PoseOut&& o) {
@@ -437,6 +438,7 @@ struct PoseOut {
     gouge_left += o.gouge_left;
     shank_left += o.shank_left;
     range_left += o.range_left;
+    unconverged += o.unconverged;
   }
 };
 
@@ -473,7 +475,7 @@ class Poser {
         const Segment seg{r[prev_k], r[k], feed[prev_k], feed[k], prev.lead, x.lead};
         Posed from = prev;
         from.t = 0.0;
-        refine(seg, from, x, 0, &pts);
+        refine(seg, from, x, 0, &pts, &out->unconverged);
       }
       x.t = 0.0;
       pts.push_back(x);
@@ -556,9 +558,10 @@ class Poser {
     double la, lb;
   };
   // Positions inserted between a and b (not included) into out, on `seg`
-  // at their parameters t.
+  // at their parameters t; *unconverged counts the halvings stopped at the
+  // depth limit with the poses still apart.
   void refine(const Segment& seg, const Posed& a, const Posed& b, int level,
-              std::vector<Posed>* out) const {
+              std::vector<Posed>* out, int* unconverged) const {
     const double turn = a.pose.axis.Angle(b.pose.axis);
     const double t = 0.5 * (a.t + b.t);
     const ParamPt m{seg.a.u + t * (seg.b.u - seg.a.u), seg.a.v + t * (seg.b.v - seg.a.v)};
@@ -569,10 +572,13 @@ class Poser {
     if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord &&
         ac_midpoint(a.pose.axis, b.pose.axis).Angle(x.pose.axis) <= kAxisDeviation)
       return;
-    if (level >= 12) return;
-    refine(seg, a, x, level + 1, out);
+    if (level >= 12) {
+      ++*unconverged;
+      return;
+    }
+    refine(seg, a, x, level + 1, out, unconverged);
     out->push_back(x);
-    refine(seg, x, b, level + 1, out);
+    refine(seg, x, b, level + 1, out, unconverged);
   }
 
   const PatchGrid& g_;
@@ -834,6 +840,12 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
                                 " with the strips narrowed where the exact check raised the lead");
     m.unreachable_length += posed.unreachable;
     m.lead_raised_points += posed.raised;
+    m.unconverged_moves += posed.unconverged;
+    if (posed.unconverged > 0)
+      result.warnings.push_back(face_label(face.index) + ": at " +
+                                std::to_string(posed.unconverged) +
+                                " moves the tool's pose still changed by more than the "
+                                "tolerances after 12 halvings between two positions");
     m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
     if (posed.raised > 0)
       result.warnings.push_back(face_label(face.index) + ": the lead was raised above " +

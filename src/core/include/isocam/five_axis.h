@@ -189,6 +189,10 @@ struct FiveAxisMetrics {
   double unreachable_length = 0.0;  // contact path left out (gouge, shank, A range)
   double max_lead_used = 0.0;       // degrees
   int lead_raised_points = 0;       // posted positions whose lead was raised
+  // Moves between two posted positions whose poses (tip off the chord, axis
+  // off the interpolated one, or turn) still differ by more than the
+  // tolerances after 12 halvings: the machine's swing there is not checked.
+  int unconverged_moves = 0;
   int paths = 0, retracts = 0;
   int low_links = 0, safe_hops = 0;  // links between runs: low, or through the safe height
 };
