@@ -102,20 +102,26 @@ int main(int argc, char** argv) {
     };
     // The 5-axis runs: low links (the default), then every run through the
     // safe height (the linking before issue 13's low links); machine time
-    // with the rotary moves timed, and without (tip moves only, as before).
+    // with the rotary moves timed, and without (tip moves only, as before);
+    // NormalIsocurves; and A allowed from -90 deg (the C branch turned half
+    // a turn where that is the shorter rotary move).
     struct Run5 {
       FiveAxisStrategy strategy;
       bool low;
+      double a_min;
     };
-    for (const Run5 run : {Run5{FiveAxisStrategy::StripEvaluation, true},
-                           Run5{FiveAxisStrategy::StripEvaluation, false},
-                           Run5{FiveAxisStrategy::NormalIsocurves, true}}) {
+    for (const Run5 run : {Run5{FiveAxisStrategy::StripEvaluation, true, 0.0},
+                           Run5{FiveAxisStrategy::StripEvaluation, false, 0.0},
+                           Run5{FiveAxisStrategy::NormalIsocurves, true, 0.0},
+                           Run5{FiveAxisStrategy::StripEvaluation, true, -90.0}}) {
       const bool low = run.low;
       const bool iso = run.strategy == FiveAxisStrategy::NormalIsocurves;
+      const std::string a_range = run.a_min < 0 ? ", A from -90" : "";
       FiveAxisParams p;
       p.scallop_height = c.h;
       p.low_links = low;
       p.strategy = run.strategy;
+      p.a_min = run.a_min;
       const auto t0 = std::chrono::steady_clock::now();
       const FiveAxisResult r = five_axis_finish(shape, faces, p);
       const double secs =
@@ -123,15 +129,15 @@ int main(int argc, char** argv) {
       const FiveAxisMetrics& m = r.metrics;
       const std::string label = std::string("5-axis flat end 6 mm, lead 5 deg, ") +
                                 (iso ? "NormalIsocurves, " : "") +
-                                (low ? "low links" : "safe height");
+                                (low ? "low links" : "safe height") + a_range;
       row(label, secs, m.cutting_length, m.paths, m.machine_time, m.cutting_time,
           m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length,
           num(m.rotary_travel_a, 0) + " / " + num(m.rotary_travel_c, 0));
       const PathTimes tip = estimate_time(r.path, p.feed_rate, p.plunge_rate, p.rapid_rate);
       links << "| " << c.name << " | " << (iso ? "NormalIsocurves, " : "")
-            << (low ? "low links" : "safe height") << " | " << m.low_links << " / " << m.safe_hops
-            << " | " << num(m.rapid_length, 0) << " | " << num(m.machine_time / 60, 2) << " | "
-            << num(tip.total / 60, 2) << " |\n";
+            << (low ? "low links" : "safe height") << a_range << " | " << m.low_links << " / "
+            << m.safe_hops << " | " << num(m.rapid_length, 0) << " | "
+            << num(m.machine_time / 60, 2) << " | " << num(tip.total / 60, 2) << " |\n";
       for (const std::string& w : r.warnings) std::cout << "  warning: " << w << "\n";
     }
     for (IsoPattern pat : {IsoPattern::ConstantScallop, IsoPattern::Adaptive}) {
