@@ -530,8 +530,8 @@ class Poser {
     return (A >= job_.p.a_min - eps && A <= job_.p.a_max + eps) ||
            (-A >= job_.p.a_min - eps && -A <= job_.p.a_max + eps);
   }
-  // The pose at uv with the feed along dir, its lead the job's there,
-  // raised while the exact check finds it digging in.
+  // The pose at uv with the feed along dir, its lead the job's there (at
+  // least min_lead), raised while the exact check finds it digging in.
   bool pose(const ParamPt& uv, const gp_Vec& dir, Posed* x, double min_lead = 0.0) const {
     ContactFrame c;
     if (!contact_frame(g_, uv, dir, &c)) return false;
