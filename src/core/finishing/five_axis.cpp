@@ -389,6 +389,8 @@ std::vector<Run> clip_face(const PatchGrid& g, const TrimDomain& trim, bool tran
 // posted positions) may differ from the exact axis at the middle (radians):
 // the rim then moves by at most R x this (in the budget's axis term).
 constexpr double kAxisDeviation = 2e-4;
+// The deepest the refinement halves a segment between two run samples.
+constexpr int kMaxHalvings = 12;
 
 // The axis halfway between two in the machine's interpolation: A and C of
 // each (C of the other where one is vertical, C unwrapped to the nearest
@@ -420,7 +422,6 @@ struct Posed {
   double depth = 0;           // tool_depth of the pose, computed once by Poser::pose
   bool raised = false;        // lead above the job's lead
   bool raised_exact = false;  // ... and above what the curvature asks for there
-  double t = 0.0;             // where on its run segment (Poser::refine)
 };
 
 struct PoseOut {
@@ -461,25 +462,22 @@ class Poser {
     // the position, feed and lead interpolated by the parameter t along
     // the segment, so that a pose depends on where it is only.
     std::vector<Posed> pts;
+    std::vector<gp_Pnt> at(r.size());
+    for (std::size_t k = 0; k < r.size(); ++k) at[k] = g_.eval(r[k].u, r[k].v);
     std::vector<gp_Vec> feed(r.size());
-    Posed prev;
     std::size_t prev_k = 0;
     for (std::size_t k = 0; k < r.size(); ++k) {
       const std::size_t a = k > 0 ? k - 1 : k, b = k + 1 < r.size() ? k + 1 : k;
-      feed[k] = gp_Vec(g_.eval(r[a].u, r[a].v), g_.eval(r[b].u, r[b].v));
+      feed[k] = gp_Vec(at[a], at[b]);
       if (feed[k].SquareMagnitude() > 1e-300) feed[k].Normalize();
       Posed x;
       if (!pose(r[k], feed[k], &x)) continue;
-      x.t = 1.0;
       if (!pts.empty()) {
+        const Posed prev = pts.back();
         const Segment seg{r[prev_k], r[k], feed[prev_k], feed[k], prev.lead, x.lead};
-        Posed from = prev;
-        from.t = 0.0;
-        refine(seg, from, x, 0, &pts, &out->unconverged);
+        refine(seg, prev, 0.0, x, 1.0, 0, &pts, &out->unconverged);
       }
-      x.t = 0.0;
       pts.push_back(x);
-      prev = x;
       prev_k = k;
     }
     // The checks, splitting the run where a position fails.
@@ -557,28 +555,27 @@ class Poser {
     gp_Vec fa, fb;
     double la, lb;
   };
-  // Positions inserted between a and b (not included) into out, on `seg`
-  // at their parameters t; *unconverged counts the halvings stopped at the
-  // depth limit with the poses still apart.
-  void refine(const Segment& seg, const Posed& a, const Posed& b, int level,
+  // Positions inserted between a (at parameter ta on `seg`) and b (at tb),
+  // not included, into out; *unconverged counts the halvings stopped at
+  // the depth limit with the poses still apart.
+  void refine(const Segment& seg, const Posed& a, double ta, const Posed& b, double tb, int level,
               std::vector<Posed>* out, int* unconverged) const {
     const double turn = a.pose.axis.Angle(b.pose.axis);
-    const double t = 0.5 * (a.t + b.t);
+    const double t = 0.5 * (ta + tb);
     const ParamPt m{seg.a.u + t * (seg.b.u - seg.a.u), seg.a.v + t * (seg.b.v - seg.a.v)};
     Posed x;
     if (!pose(m, seg.fa * (1 - t) + seg.fb * t, &x, (1 - t) * seg.la + t * seg.lb)) return;
-    x.t = t;
     const gp_Pnt mid((a.pose.tip.XYZ() + b.pose.tip.XYZ()) * 0.5);
     if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord &&
         ac_midpoint(a.pose.axis, b.pose.axis).Angle(x.pose.axis) <= kAxisDeviation)
       return;
-    if (level >= 12) {
+    if (level >= kMaxHalvings) {
       ++*unconverged;
       return;
     }
-    refine(seg, a, x, level + 1, out, unconverged);
+    refine(seg, a, ta, x, t, level + 1, out, unconverged);
     out->push_back(x);
-    refine(seg, x, b, level + 1, out, unconverged);
+    refine(seg, x, t, b, tb, level + 1, out, unconverged);
   }
 
   const PatchGrid& g_;
@@ -845,7 +842,8 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
       result.warnings.push_back(face_label(face.index) + ": at " +
                                 std::to_string(posed.unconverged) +
                                 " moves the tool's pose still changed by more than the "
-                                "tolerances after 12 halvings between two positions");
+                                "tolerances after " +
+                                std::to_string(kMaxHalvings) + " halvings between two positions");
     m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
     if (posed.raised > 0)
       result.warnings.push_back(face_label(face.index) + ": the lead was raised above " +
