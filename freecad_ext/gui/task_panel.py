@@ -24,7 +24,7 @@ from PySide import QtCore, QtGui
 
 from freecad_ext import compat, op_base, operations
 from freecad_ext.compat import translate
-from freecad_ext.gui import progress
+from freecad_ext.gui import progress, qt_objects
 
 log = compat.logger(__name__)
 
@@ -241,6 +241,7 @@ class OperationPage(_base.TaskPanelPage):
         path = operations.panel_path(self.spec)
         if path:
             form = FreeCADGui.PySideUic.loadUi(path)
+            qt_objects.true_type_children(form)
         else:
             form = self._generated_form()
         for name in ("validation", "certificate"):
@@ -280,7 +281,7 @@ class OperationPage(_base.TaskPanelPage):
 
     def initPage(self, obj):
         for prop in self._setup_properties():
-            widget = self.form.findChild(QtCore.QObject, prop)
+            widget = qt_objects.true_type(self.form.findChild(QtCore.QObject, prop))
             if widget is None:
                 log.debug("%s panel has no widget for %s" % (self.spec.name, prop))
                 continue

@@ -98,6 +98,32 @@ class BadInput(unittest.TestCase):
         self.assertIs(proxy.Object, self.good)
         self.assertTrue(proxy.getIcon().endswith("AdaptiveIsocurve.svg"))
 
+    def test_panel_widgets_get_their_own_class_back(self):
+        """A wrapper of another class at a widget's address (PySide hands out
+        a kept wrapper of a deleted widget for a new one at the same place)
+        is replaced, in a loaded form's attributes, by one of the widget's
+        own class; wrappers of the right class are kept as they are."""
+        from freecad_ext.gui import qt_objects
+
+        if qt_objects._shiboken is None:
+            self.skipTest("no shiboken module in this FreeCAD's Python")
+        form = QtGui.QWidget()
+        combo = QtGui.QComboBox(form)
+        combo.setObjectName("toolController")
+        spin = FreeCADGui.UiLoader().createWidget("Gui::QuantitySpinBox", form)
+        spin.setObjectName("ScallopHeight")
+        address = qt_objects._shiboken.getCppPointer(combo)[0]
+        form.toolController = qt_objects._shiboken.wrapInstance(address, QtGui.QDialog)
+        form.ScallopHeight = spin
+        qt_objects.true_type_children(form)
+        self.assertIsInstance(form.toolController, QtGui.QComboBox)
+        self.assertEqual(qt_objects._shiboken.getCppPointer(form.toolController)[0], address)
+        form.toolController.addItem("ball", "TC")
+        self.assertEqual(combo.itemData(0), "TC")
+        self.assertIs(form.ScallopHeight, spin)
+        self.assertIs(qt_objects.true_type(None), None)
+        form.deleteLater()
+
     def test_no_face_picked(self):
         before = gui.snapshot(self.doc)
         op, page = self.run_command()
