@@ -47,13 +47,15 @@ double span_width(const std::vector<double>& br, double t) {
 // Normal curvatures at uv along the tangent directions `t1` and `t2` (unit),
 // convex > 0 (geometry/curvature.h's convention); second derivatives by
 // central differences of the exact first ones, 1e-4 of the patch, kept
-// inside the grid's rectangle.
+// inside the grid's rectangle. `at_uv`: the first derivatives at uv, if the
+// caller has them (used where the differences are centred on uv itself).
 void normal_curvatures(const PatchGrid& g, const ParamPt& uv, const gp_Vec& n, const gp_Vec& t1,
-                       const gp_Vec& t2, double* k1, double* k2) {
+                       const gp_Vec& t2, double* k1, double* k2,
+                       const SurfaceDerivs* at_uv = nullptr) {
   const double hu = 1e-4 * span_width(g.ubreaks(), uv.u), hv = 1e-4 * span_width(g.vbreaks(), uv.v);
   const double u = std::clamp(uv.u, g.umin() + hu, g.umax() - hu);
   const double v = std::clamp(uv.v, g.vmin() + hv, g.vmax() - hv);
-  const SurfaceDerivs d = g.d1(u, v);
+  const SurfaceDerivs d = at_uv && u == uv.u && v == uv.v ? *at_uv : g.d1(u, v);
   const SurfaceDerivs up = g.d1(u + hu, v), um = g.d1(u - hu, v);
   const SurfaceDerivs vp = g.d1(u, v + hv), vm = g.d1(u, v - hv);
   const gp_Vec suu = (up.su - um.su) / (2 * hu), svv = (vp.sv - vm.sv) / (2 * hv);
@@ -276,7 +278,7 @@ StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_
   f.feed = tangential(feed_guess, f.normal);
   f.across = f.normal.Crossed(f.feed);
   if (f.feed.SquareMagnitude() > 0.5)
-    normal_curvatures(g, uv, f.normal, f.across, f.feed, &f.kappa_across, &f.kappa_feed);
+    normal_curvatures(g, uv, f.normal, f.across, f.feed, &f.kappa_across, &f.kappa_feed, &d);
   return f;
 }
 
@@ -294,40 +296,68 @@ void PathIndex::add(const FrontPiece& pc) {
 }
 
 double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough) const {
-  double best = 2 * cell_;
-  if (at) *at = p;
+  // Squared distances throughout; a cell is opened only if its box (grown by
+  // a rounding margin, the cells being floor(x / cell)) is nearer than the
+  // best segment so far, and the second ring only visits its shell. Each of
+  // these skips a segment only where the full scan would have rejected it.
+  const double far = 2 * cell_;
+  double best2 = far * far;
+  const std::pair<gp_Pnt, gp_Pnt>* nearest = nullptr;
+  double nearest_t = 0.0;
   const long i = idx(p.X()), j = idx(p.Y()), q = idx(p.Z());
-  for (long ring = 1; ring <= 2 && best > double(ring - 1) * cell_; ++ring)
+  const double enough2 = enough * enough;
+  const double c[3] = {p.X(), p.Y(), p.Z()};
+  const long home[3] = {i, j, q};
+  auto gap2 = [&](const long cell[3]) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double lo = double(cell[k]) * cell_, hi = lo + cell_;
+      const double margin = 1e-9 * (std::abs(lo) + cell_);
+      const double d = std::max({lo - margin - c[k], c[k] - hi - margin, 0.0});
+      d2 += d * d;
+    }
+    return d2;
+  };
+  for (long ring = 1; ring <= 2 && best2 > double(ring - 1) * cell_ * double(ring - 1) * cell_;
+       ++ring)
     for (long a = i - ring; a <= i + ring; ++a)
       for (long b = j - ring; b <= j + ring; ++b)
-        for (long c = q - ring; c <= q + ring; ++c) {
-          const auto it = grid_.find(cell_key(a, b, c));
+        for (long d = q - ring; d <= q + ring; ++d) {
+          const long cell[3] = {a, b, d};
+          if (ring == 2 && std::abs(a - home[0]) <= 1 && std::abs(b - home[1]) <= 1 &&
+              std::abs(d - home[2]) <= 1)
+            continue;  // the first ring's
+          if (gap2(cell) >= best2) continue;
+          const auto it = grid_.find(cell_key(a, b, d));
           if (it == grid_.end()) continue;
           for (std::size_t sgi : it->second) {
-            const double d = to_segment(p, sgi);
-            if (d >= best) continue;
-            best = d;
-            if (best <= enough && !at) return best;
-            if (at) {
-              const gp_Pnt &a0 = segs_[sgi].first, &b0 = segs_[sgi].second;
-              const gp_Vec ab(a0, b0);
-              const double l2 = ab.SquareMagnitude();
-              const double t = l2 > 0 ? std::clamp(gp_Vec(a0, p).Dot(ab) / l2, 0.0, 1.0) : 0.0;
-              *at = a0.Translated(ab * t);
-            }
+            double t;
+            const double d2 = to_segment2(p, sgi, &t);
+            if (d2 >= best2) continue;
+            best2 = d2;
+            nearest = &segs_[sgi];
+            nearest_t = t;
+            if (best2 <= enough2 && !at) return std::sqrt(best2);
           }
         }
-  return best;
+  if (at) {
+    *at = p;
+    if (nearest) {
+      const gp_Pnt &a0 = nearest->first, &b0 = nearest->second;
+      *at = a0.Translated(gp_Vec(a0, b0) * nearest_t);
+    }
+  }
+  return nearest ? std::sqrt(best2) : far;
 }
 
 long PathIndex::idx(double x) const { return static_cast<long>(std::floor(x / cell_)); }
 
-double PathIndex::to_segment(const gp_Pnt& p, std::size_t i) const {
+double PathIndex::to_segment2(const gp_Pnt& p, std::size_t i, double* t) const {
   const gp_Pnt &a = segs_[i].first, &b = segs_[i].second;
   const gp_Vec ab(a, b), ap(a, p);
   const double l2 = ab.SquareMagnitude();
-  const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return p.Distance(a.Translated(ab * t));
+  *t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return p.SquareDistance(a.Translated(ab * *t));
 }
 
 StripWidth ball_strip_width(double r, double h, double e) {
@@ -343,7 +373,7 @@ double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir
   const gp_Vec t = tangential(dir, n);
   if (t.SquareMagnitude() < 0.5) return 0.0;
   double k1, k2;
-  normal_curvatures(g, uv, n, t, t, &k1, &k2);
+  normal_curvatures(g, uv, n, t, t, &k1, &k2, &d);
   return k1;
 }
 

@@ -96,7 +96,8 @@ class PathIndex {
 
  private:
   long idx(double x) const;
-  double to_segment(const gp_Pnt& p, std::size_t i) const;
+  // The squared distance to segment i; t: where on it, in [0, 1].
+  double to_segment2(const gp_Pnt& p, std::size_t i, double* t) const;
   double cell_;
   std::vector<std::pair<gp_Pnt, gp_Pnt>> segs_;
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
