@@ -92,9 +92,13 @@ class Pocketing(unittest.TestCase):
 
     def watch_progress(self, seen, cancel=False):
         """Note the progress dialog's value while it is up; press its
-        Cancel the first time if `cancel`."""
+        Cancel the first time if `cancel`. The watch ends with the test."""
+        watching = [True]
+        self.addCleanup(watching.__setitem__, 0, False)
 
         def look():
+            if not watching[0]:
+                return
             modal = QtGui.QApplication.activeModalWidget()
             if modal is not None and gui.is_progress_dialog(modal):
                 seen.append(modal.value())
