@@ -156,9 +156,30 @@ class ViewProvider(_base.ViewProvider):
         panel = task_panel.TaskPanel(
             vobj.Object, self.deleteObjectsOnReject(), page, self.getSelectionFactory()
         )
-        self.setupTaskPanel(panel)
+        try:
+            self.setupTaskPanel(panel)
+        except Exception as error:  # whatever failed, no half-open panel
+            self._abandon(panel, vobj.Object, error)
+            return False
         self.deleteOnReject = False
         return True
+
+    def _abandon(self, panel, obj, error):
+        """A panel that failed while it was set up: undone as its Cancel
+        does (the document as before; a just-created op removed), closed,
+        and the reason in the report view."""
+        label = obj.Label
+        log.error(
+            translate("IsoCAM", "%s: the task panel could not be opened: %s")
+            % (label, "%s: %s" % (type(error).__name__, error))
+        )
+        try:
+            panel.reject(resetEdit=False)
+        except Exception as second:  # closed below whatever happens
+            log.debug("closing the failed panel: %s" % second)
+        if FreeCADGui.Control.activeDialog():
+            FreeCADGui.Control.closeDialog()
+        self.panel = None
 
 
 def attach(obj, spec, delete_on_reject=False):

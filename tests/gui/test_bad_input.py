@@ -124,6 +124,37 @@ class BadInput(unittest.TestCase):
         self.assertIs(qt_objects.true_type(None), None)
         form.deleteLater()
 
+    def test_a_panel_that_fails_to_open_leaves_nothing_open_or_changed(self):
+        """A page that raises while the panel is set up (as a wrong widget
+        class once made it): the panel closes again, the report view names
+        the op and the error, the document is as it was, and the panel opens
+        once the page works."""
+        from freecad_ext.gui import task_panel
+
+        before = gui.snapshot(self.doc)
+        good_set_fields = task_panel.OperationPage.setFields
+
+        def broken_set_fields(page, obj):
+            raise RuntimeError("a page that cannot be filled")
+
+        task_panel.OperationPage.setFields = broken_set_fields
+        try:
+            FreeCADGui.ActiveDocument.setEdit(self.good.Name)
+            gui.pump(0.5)
+        finally:
+            task_panel.OperationPage.setFields = good_set_fields
+        self.assertFalse(FreeCADGui.Control.activeDialog())
+        report = gui.report_view_text()
+        self.assertIn("Good: the task panel could not be opened", report)
+        self.assertIn("RuntimeError: a page that cannot be filled", report)
+        self.assertEqual(gui.snapshot_changes(gui.snapshot(self.doc), before), [])
+        self.assertIsNone(self.good.ViewObject.Proxy.panel)
+        FreeCADGui.ActiveDocument.setEdit(self.good.Name)
+        gui.wait_until(lambda: gui.task_button(QtGui.QDialogButtonBox.Cancel), 20, "the panel")
+        gui.task_button(QtGui.QDialogButtonBox.Cancel).click()
+        gui.wait_until(lambda: not FreeCADGui.Control.activeDialog(), 20, "the panel to close")
+        self.assertEqual(gui.snapshot_changes(gui.snapshot(self.doc), before), [])
+
     def test_no_face_picked(self):
         before = gui.snapshot(self.doc)
         op, page = self.run_command()
