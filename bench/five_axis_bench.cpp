@@ -103,25 +103,30 @@ int main(int argc, char** argv) {
     // The 5-axis runs: low links (the default), then every run through the
     // safe height (the linking before issue 13's low links); machine time
     // with the rotary moves timed, and without (tip moves only, as before);
-    // NormalIsocurves; and A allowed from -90 deg (the C branch turned half
-    // a turn where that is the shorter rotary move).
+    // NormalIsocurves; A allowed from -90 deg (the C branch turned half a
+    // turn where that is the shorter rotary move); and the passes run back
+    // lagging (lag_on_return: the tilt keeps its side, A from 0).
     struct Run5 {
       FiveAxisStrategy strategy;
       bool low;
       double a_min;
+      bool lag = false;
     };
     for (const Run5 run : {Run5{FiveAxisStrategy::StripEvaluation, true, 0.0},
                            Run5{FiveAxisStrategy::StripEvaluation, false, 0.0},
                            Run5{FiveAxisStrategy::NormalIsocurves, true, 0.0},
-                           Run5{FiveAxisStrategy::StripEvaluation, true, -90.0}}) {
+                           Run5{FiveAxisStrategy::StripEvaluation, true, -90.0},
+                           Run5{FiveAxisStrategy::StripEvaluation, true, 0.0, true}}) {
       const bool low = run.low;
       const bool iso = run.strategy == FiveAxisStrategy::NormalIsocurves;
-      const std::string a_range = run.a_min < 0 ? ", A from -90" : "";
+      const std::string a_range =
+          std::string(run.a_min < 0 ? ", A from -90" : "") + (run.lag ? ", lag on return" : "");
       FiveAxisParams p;
       p.scallop_height = c.h;
       p.low_links = low;
       p.strategy = run.strategy;
       p.a_min = run.a_min;
+      p.lag_on_return = run.lag;
       const auto t0 = std::chrono::steady_clock::now();
       const FiveAxisResult r = five_axis_finish(shape, faces, p);
       const double secs =

@@ -21,7 +21,8 @@ commands, so it reaches the posted G-code):
   between neighbours), and where A is 0 C keeps its previous value.
 
 The tool axis at a contact point is the surface normal tilted by LeadAngle
-along the feed (and TiltAngle across it); on concave ground tighter than the
+along the feed (and TiltAngle across it; with LagOnReturn the passes the
+zig-zag runs back keep the forward passes' tilt, so the tool lags there); on concave ground tighter than the
 bottom allows, the core raises the lead there (up to MaxLeadAngle) so
 that the heel does not dig in (rear gouge), and says so in the report view.
 Errors follow the other IsoCAM ops: the message names the property or tool,
@@ -188,6 +189,16 @@ _DEFINITIONS = (
             "under TCP; turn off for machines that do not.",
         ),
     ),
+    (
+        "App::PropertyBool",
+        "LagOnReturn",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "The passes run back keep the tilt of the passes run forward (the tool lags, "
+            "tilted against the feed by the lead), so C does not turn half a turn between "
+            "passes where the axis is near vertical. Off: the tool leads along every pass.",
+        ),
+    ),
 )
 
 _DEFAULTS = {
@@ -206,6 +217,7 @@ _DEFAULTS = {
     "RapidRate": 5000.0,
     "RotaryRate": 3600.0,
     "LowLinks": True,
+    "LagOnReturn": False,
 }
 
 _OUTPUTS = (
@@ -483,6 +495,7 @@ def _params(obj, core, radius, corner=0.0):
     p.rapid_rate = float(obj.RapidRate)
     p.rotary_rate = float(obj.RotaryRate)
     p.low_links = bool(obj.LowLinks)
+    p.lag_on_return = bool(obj.LagOnReturn)
     p.safe_z = obj.SafeHeight.Value
     p.max_moves = op_base.max_moves(obj)
     return p
@@ -543,6 +556,7 @@ def SetupProperties():
         "RapidRate",
         "RotaryRate",
         "LowLinks",
+        "LagOnReturn",
     ]
 
 

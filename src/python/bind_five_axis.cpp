@@ -77,6 +77,8 @@ void bind_five_axis(py::module_& m) {
       .def_readwrite("air_clearance", &FiveAxisParams::air_clearance)
       .def_readwrite("low_links", &FiveAxisParams::low_links,
                      "links between runs kept low where proven clear and quicker")
+      .def_readwrite("lag_on_return", &FiveAxisParams::lag_on_return,
+                     "passes run back keep the forward passes' tilt (the tool lags)")
       .def_readwrite("feed_rate", &FiveAxisParams::feed_rate, "mm/min")
       .def_readwrite("plunge_rate", &FiveAxisParams::plunge_rate, "mm/min")
       .def_readwrite("rapid_rate", &FiveAxisParams::rapid_rate, "mm/min")

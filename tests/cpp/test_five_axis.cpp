@@ -136,6 +136,61 @@ TEST(FiveAxis, PosedOnAPlaneAtTheLead) {
   EXPECT_EQ(r.metrics.unreachable_length, 0.0);
 }
 
+TEST(FiveAxis, LagOnReturnKeepsTheTiltsSideAndC) {
+  // The plane above: by default the axis leans along each pass's feed, so
+  // C turns half a turn between the zig-zag's passes; with lag_on_return
+  // the passes run back keep the forward passes' tilt: every feed move has
+  // the same axis, C stays, and the path cut is the same.
+  const TopoDS_Face face =
+      BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp_Dir(0, 0, 1)), 0, 20, 0, 12).Face();
+  FiveAxisParams p;
+  p.lead_angle = 7.0;
+  p.direction = IsoDirection::V;
+  const FiveAxisResult lead = five_axis_finish(face, {0}, p);
+  p.lag_on_return = true;
+  const FiveAxisResult lag = five_axis_finish(face, {0}, p);
+  ASSERT_GT(lag.metrics.paths, 3);
+  EXPECT_EQ(lag.metrics.paths, lead.metrics.paths);
+  EXPECT_NEAR(lag.metrics.cutting_length, lead.metrics.cutting_length, 1e-6);
+  EXPECT_GE(lead.metrics.rotary_travel_c, 180.0 * (lead.metrics.paths - 1) - 1e-6);
+  EXPECT_LT(lag.metrics.rotary_travel_c, 1e-6);
+  int along = 0, against = 0;
+  gp_Vec first;
+  for (std::size_t q = 1; q < lag.path.size(); ++q) {
+    if (lag.path.kind[q] != static_cast<std::uint8_t>(MoveKind::Feed)) continue;
+    const gp_Vec axis(lag.i[q], lag.j[q], lag.k[q]);
+    if (first.SquareMagnitude() == 0) first = axis;
+    EXPECT_LT(axis.Angle(first), 1e-9);
+    EXPECT_NEAR(lag.path.z[q] - p.tool_radius * std::sin(7.0 * kDeg), 2.0, 1e-9);
+    const gp_Vec move(lag.path.x[q] - lag.path.x[q - 1], lag.path.y[q] - lag.path.y[q - 1], 0);
+    if (move.Magnitude() > 1e-3) ++(move.Dot(gp_Vec(axis.X(), axis.Y(), 0)) > 0 ? along : against);
+  }
+  // Half the passes lead, half lag.
+  EXPECT_GT(along, 10);
+  EXPECT_GT(against, 10);
+  EXPECT_LE(lag.metrics.guaranteed_scallop, p.scallop_height + 1e-12);
+  EXPECT_EQ(lag.metrics.unreachable_length, 0.0);
+  EXPECT_LT(lag.metrics.machine_time, lead.metrics.machine_time);
+}
+
+TEST(FiveAxis, LagOnReturnOnASaddle) {
+  // The Bezier saddle (leads raised on its concave side): the same
+  // guarantee and passes with lag_on_return. (Here the normal leans far
+  // more than the lead, so C follows the normal and travels as much.)
+  const TopoDS_Face face = bezier_saddle();
+  FiveAxisParams p;
+  p.scallop_height = 0.02;
+  const FiveAxisResult lead = five_axis_finish(face, {0}, p);
+  p.lag_on_return = true;
+  const FiveAxisResult lag = five_axis_finish(face, {0}, p);
+  const FiveAxisMetrics& m = lag.metrics;
+  EXPECT_EQ(m.paths, lead.metrics.paths);
+  EXPECT_NEAR(m.cutting_length, lead.metrics.cutting_length, 1e-3 * lead.metrics.cutting_length);
+  EXPECT_LE(m.guaranteed_scallop, p.scallop_height + 1e-12);
+  EXPECT_EQ(m.unreachable_length, 0.0);
+  EXPECT_EQ(m.unconverged_moves, 0);
+}
+
 // The bull nose on flat ground without tilt, by brute force: its core disc
 // (radius R' = R - rc, rc up) seen along the feed is the half-ellipse
 // z = rc + R' sin(l) (1 - sqrt(1 - x^2 / R'^2)); the tool's edge is its

@@ -262,6 +262,45 @@ class FiveAxisFinishTest(unittest.TestCase):
         self.assertLess(low[0], 0.5 * hop[0])
         self.assertLess(low[1], hop[1])
 
+    def test_lag_on_return(self):
+        """LagOnReturn: the passes the zig-zag runs back keep the forward
+        passes' tilt. Posted and swept within the guarantees (run_case); in
+        the posted program the tool leans (off the face normal) along the
+        feed on some passes and against it on others, with one C throughout;
+        with the lead along every pass the axis swings between passes (here,
+        passes down the 15 degree slope, A between 10 and 20 degrees). Less
+        rotary travel and machine time, the same cutting length."""
+        built, op, _left, _over = self.run_case("Lag", tilted_plane(), top_face, LagOnReturn=True)
+        _gcode, moves = self.post_and_read(built, op)
+        lag = (op.RotaryTravelA + op.RotaryTravelC, op.MachineTime, op.CuttingLength.Value)
+        normal = built.clone.Shape.Faces[top_face(built.clone.Shape) - 1].normalAt(0, 0)
+        along = against = 0.0  # mm of cutting moves leaning along, against their move
+        cs = set()
+        for prev, cur in zip(moves, moves[1:]):
+            move = V(*[cur[i] - prev[i] for i in (1, 2, 3)])
+            if cur[0] != "G1" or move.Length < 0.01:
+                continue
+            lean = V(*check.axis_of(cur[4], cur[5])).sub(normal)  # the lead, off the normal
+            if lean.dot(move) > 0:
+                along += move.Length
+            else:
+                against += move.Length
+            cs.add(round(cur[5], 1))
+        # 5 passes about 10 mm long: 3 run forward, 2 back.
+        self.assertGreater(along, 25.0)
+        self.assertGreater(against, 15.0)
+        self.assertEqual(len(cs), 1, "C of the cutting moves: %s" % sorted(cs))
+        op.LagOnReturn = False
+        built.doc.recompute()
+        lead = (op.RotaryTravelA + op.RotaryTravelC, op.MachineTime, op.CuttingLength.Value)
+        print(
+            "Lag: A + C travel %.1f deg, machine time %.1f s, cutting %.1f mm; lead: %.1f, %.1f, %.1f"
+            % (lag + lead)
+        )
+        self.assertLess(lag[0], 0.5 * lead[0])
+        self.assertLess(lag[1], lead[1])
+        self.assertAlmostEqual(lag[2], lead[2], delta=1e-6 * lead[2])
+
     def test_ball_end_refused_by_name(self):
         built = Built("FiveBall", tilted_plane())
         self.addCleanup(built.close)

@@ -333,18 +333,24 @@ Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transpos
 }
 
 // Phase 2: the runs of contact points inside the face (bisection at the
-// wires), zig-zag: every other path reversed.
+// wires), zig-zag: every other path run back (its runs in reverse order,
+// each marked `back`; its points stay in the traced order, the poser
+// reverses them).
 using Run = std::vector<ParamPt>;
+struct ClippedRun {
+  Run r;
+  bool back = false;
+};
 
-std::vector<Run> clip_face(const PatchGrid& g, const TrimDomain& trim, bool transposed,
-                           const Traced& t, double tol) {
+std::vector<ClippedRun> clip_face(const PatchGrid& g, const TrimDomain& trim, bool transposed,
+                                  const Traced& t, double tol) {
   auto inside = [&](const ParamPt& q) {
     return transposed ? trim.contains(q.v, q.u) : trim.contains(q.u, q.v);
   };
   auto lerp = [](const ParamPt& a, const ParamPt& b, double f) {
     return ParamPt{a.u + f * (b.u - a.u), a.v + f * (b.v - a.v)};
   };
-  std::vector<Run> runs;
+  std::vector<ClippedRun> runs;
   for (std::size_t i = 0; i < t.paths.size(); ++i) {
     std::vector<Run> path_runs;
     for (const FrontPiece& pc : t.paths[i]) {
@@ -376,11 +382,9 @@ std::vector<Run> clip_face(const PatchGrid& g, const TrimDomain& trim, bool tran
       }
       if (cur.size() >= 2) path_runs.push_back(cur);
     }
-    if (i % 2 == 1) {
-      std::reverse(path_runs.begin(), path_runs.end());
-      for (Run& r : path_runs) std::reverse(r.begin(), r.end());
-    }
-    for (Run& r : path_runs) runs.push_back(std::move(r));
+    const bool back = i % 2 == 1;
+    if (back) std::reverse(path_runs.begin(), path_runs.end());
+    for (Run& r : path_runs) runs.push_back({std::move(r), back});
   }
   return runs;
 }
@@ -457,6 +461,20 @@ class Poser {
   Poser(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job)
       : g_(g), trim_(trim), transposed_(transposed), job_(job) {}
 
+  // The run posed and checked into out. A run the zig-zag runs back is
+  // posed along its own direction, or with lag_on_return along the traced
+  // one (the pass before's tilt kept) and then reversed.
+  void run(const ClippedRun& c, PoseOut* out) const {
+    if (!c.back) return run(c.r, out);
+    if (!job_.p.lag_on_return) return run(Run(c.r.rbegin(), c.r.rend()), out);
+    const std::size_t first = out->runs.size();
+    run(c.r, out);
+    std::reverse(out->runs.begin() + static_cast<std::ptrdiff_t>(first), out->runs.end());
+    for (std::size_t k = first; k < out->runs.size(); ++k)
+      std::reverse(out->runs[k].begin(), out->runs[k].end());
+  }
+
+ private:
   void run(const Run& r, PoseOut* out) const {
     // The samples, each fed along the chord of its neighbours; between two
     // the position, feed and lead interpolated by the parameter t along
@@ -515,7 +533,6 @@ class Poser {
     flush();
   }
 
- private:
   bool inside(const ParamPt& q) const {
     return transposed_ ? trim_.contains(q.v, q.u) : trim_.contains(q.u, q.v);
   }
@@ -714,7 +731,7 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     if (attempt > 0)
       out.best = trace_to(g, face, best_transposed, job, raised, target,
                           slice.sub(ends[attempt], ends[attempt]));
-    const std::vector<Run> clipped =
+    const std::vector<ClippedRun> clipped =
         clip_face(g, *face.trim, best_transposed, out.best, 0.1 * job.b.chord);
     // The runs posed at once, each into its own part, joined in order.
     slice.report(ends[attempt]);

@@ -79,7 +79,10 @@
 // neighbours), and where sin A is about 0 (the axis vertical) C keeps the
 // previous value. With a_min < 0 the branch (-A, C + 180) is taken where it
 // moves less. Positions whose axis needs A outside the range are left out
-// (unreachable). Coordinates x, y, z are the tip in the part (work) frame.
+// (unreachable). Where the axis is near vertical, a lead that follows the
+// zig-zag's feed turns C by half a turn between passes; lag_on_return
+// keeps the tilt's side instead (A from 0 suffices). Coordinates x, y, z are the tip in the part
+// (work) frame.
 //
 // Links (finishing/five_axis_link.h). Each run is entered by a fed move
 // along its start axis over the air clearance and left by a rapid retract
@@ -168,6 +171,13 @@ struct FiveAxisParams {
   // the hop through the safe height (see "Links" above); false: every run
   // entered and left through the safe height.
   bool low_links = true;
+  // The passes the zig-zag runs back: false, the axis leads along their own
+  // feed (where it is near vertical C turns half a turn between passes);
+  // true, they keep the tilt of the passes run forward (posed as if traced
+  // forward, then run back: the tool lags, tilted against the feed by the
+  // lead angle). The poses are those of the forward direction, so the
+  // checks and guarantees are the same.
+  bool lag_on_return = false;
   double feed_rate = 1200.0, plunge_rate = 400.0, rapid_rate = 5000.0;  // mm/min, > 0
   double rotary_rate = 3600.0;  // deg/min, > 0: the A and C speed machine_time assumes
   bool protect_unpicked_faces = true;
