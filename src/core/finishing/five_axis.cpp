@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -727,6 +728,16 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   // and posed again, up to three times.
   const double ends[5] = {0.5, 0.8, 0.9, 0.96, 1.0};
   double target = job.h_eff;
+  // The runs the attempt before posed, by their samples: a run traced
+  // again unchanged is posed as before (its poses depend on it alone).
+  using RunKey = std::pair<bool, std::vector<double>>;
+  auto key = [](const ClippedRun& c) {
+    RunKey k{c.back, {}};
+    k.second.reserve(2 * c.r.size());
+    for (const ParamPt& q : c.r) k.second.insert(k.second.end(), {q.u, q.v});
+    return k;
+  };
+  std::map<RunKey, PoseOut> posed_before;
   for (int attempt = 0; attempt < 4; ++attempt) {
     if (attempt > 0)
       out.best = trace_to(g, face, best_transposed, job, raised, target,
@@ -740,9 +751,16 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     std::vector<PoseOut> parts(clipped.size());
     for_each_index(clipped.size(), p.threads, [&](std::size_t k) {
       slice.check();
-      poser.run(clipped[k], &parts[k]);
+      const auto same = posed_before.find(key(clipped[k]));
+      if (same != posed_before.end())
+        parts[k] = same->second;
+      else
+        poser.run(clipped[k], &parts[k]);
       posing.report(double(++posed_runs) / double(clipped.size()));
     });
+    posed_before.clear();
+    for (std::size_t k = 0; k < clipped.size(); ++k)
+      posed_before.emplace(key(clipped[k]), parts[k]);
     out.posed = PoseOut();
     for (PoseOut& part : parts) out.posed.append(std::move(part));
     raised.add(g, out.posed.runs);

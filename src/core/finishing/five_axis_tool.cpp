@@ -185,6 +185,20 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
   return true;
 }
 
+namespace {
+// The parameter step (du, dv) whose image under the tangent map is the
+// tangential part of v (least squares); false where the map is singular.
+bool tangent_step(const SurfaceDerivs& d, const gp_Vec& v, double* du, double* dv) {
+  const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
+  const double det = E * G - F * F;
+  if (!(det > 1e-300)) return false;
+  const double bu = v.Dot(d.su), bv = v.Dot(d.sv);
+  *du = (G * bu - F * bv) / det;
+  *dv = (E * bv - F * bu) / det;
+  return true;
+}
+}  // namespace
+
 bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, SurfaceDerivs* at) {
   bool clamped = false;
   SurfaceDerivs d;
@@ -192,12 +206,8 @@ bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, 
   for (int it = 0; it < 12; ++it) {
     d = g.d1(uv.u, uv.v);
     d_at = uv;
-    const gp_Vec r(d.p, x);
-    const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
-    const double det = E * G - F * F;
-    if (!(det > 1e-300)) break;
-    const double bu = r.Dot(d.su), bv = r.Dot(d.sv);
-    const double du = (G * bu - F * bv) / det, dv = (E * bv - F * bu) / det;
+    double du, dv;
+    if (!tangent_step(d, gp_Vec(d.p, x), &du, &dv)) break;
     // Converged where the next step would move the point by under 1e-9 mm
     // (the height at the foot is stationary, so its error is far smaller).
     if ((d.su * du + d.sv * dv).SquareMagnitude() < 1e-18) {
@@ -215,6 +225,13 @@ bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, 
   *foot = uv;
   if (at) *at = d_at.u == uv.u && d_at.v == uv.v ? d : g.d1(uv.u, uv.v);
   return !clamped;
+}
+
+ParamPt predicted_foot(const PatchGrid& g, const ParamPt& foot, const SurfaceDerivs& d,
+                       const gp_Vec& step) {
+  double du, dv;
+  if (!tangent_step(d, step, &du, &dv)) return foot;
+  return {std::clamp(foot.u + du, g.umin(), g.umax()), std::clamp(foot.v + dv, g.vmin(), g.vmax())};
 }
 
 }  // namespace isocam

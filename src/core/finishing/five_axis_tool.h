@@ -107,7 +107,8 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
 // uv (a positive depth, 0 if it stays above): samples of the core disc's
 // rim (48) and two inner rings, each against its nearest surface point
 // found by Newton's method (from uv, or from the foot of the ring's sample
-// before), digging in by rc - (its signed height); points whose nearest
+// before moved by the step between the two samples), digging in by rc -
+// (its signed height); points whose nearest
 // point is on the grid's boundary (the tool overhangs the untrimmed
 // surface) or outside `inside` do not count.
 template <class Inside>
@@ -119,6 +120,11 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
 // the surface's point and derivatives there.
 bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot,
                 SurfaceDerivs* at = nullptr);
+
+// The foot moved from `foot` (derivatives d there) by the parameter step
+// whose tangent image is the tangential part of `step`, clamped to the grid.
+ParamPt predicted_foot(const PatchGrid& g, const ParamPt& foot, const SurfaceDerivs& d,
+                       const gp_Vec& step);
 
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
@@ -133,8 +139,8 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
     int n;
   } rings[] = {{1.0, 48}, {0.66, 24}, {0.33, 12}};
   for (const auto& ring : rings) {
-    // Each sample's Newton starts from its neighbour's foot on the ring (a
-    // fraction of a millimetre away), the first from uv.
+    // Each sample's Newton starts where its neighbour's foot on the ring
+    // predicts it, the first from uv.
     ParamPt start = uv;
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
@@ -145,6 +151,15 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
       SurfaceDerivs d;
       const bool on = nearest_on(g, x, start, &foot, &d);
       start = on ? foot : uv;
+      if (on) {
+        // The next sample's start: this foot moved by the tangential part
+        // of the step to the next sample (a first Newton step for free).
+        const double th2 = 2 * M_PI * (q + 1) / ring.n;
+        const gp_Vec step =
+            (e1 * (std::cos(th2) - std::cos(th)) + e2 * (std::sin(th2) - std::sin(th))) *
+            (tool.core() * ring.r);
+        start = predicted_foot(g, foot, d, step);
+      }
       if (!on || !inside(foot)) continue;
       const double hgt = gp_Vec(d.p, x).Dot(g.normal(foot.u, foot.v, &d));
       depth = std::max(depth, tool.corner - hgt);
