@@ -22,8 +22,8 @@ commands, so it reaches the posted G-code):
 
 The tool axis at a contact point is the surface normal tilted by LeadAngle
 along the feed (and TiltAngle across it; with LagOnReturn the passes the
-zig-zag runs back keep the forward passes' tilt, so the tool lags there); on concave ground tighter than the
-bottom allows, the core raises the lead there (up to MaxLeadAngle) so
+zig-zag runs back keep the forward passes' tilt, so the tool lags there);
+on concave ground tighter than the bottom allows, the core raises the lead there (up to MaxLeadAngle) so
 that the heel does not dig in (rear gouge), and says so in the report view.
 Errors follow the other IsoCAM ops: the message names the property or tool,
 the op's Path is emptied and the op is marked invalid. A picked face the

@@ -749,9 +749,11 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     const ProgressSlice posing = slice.sub(ends[attempt], ends[attempt + 1]);
     std::atomic<std::size_t> posed_runs{0};
     std::vector<PoseOut> parts(clipped.size());
+    std::vector<RunKey> keys(clipped.size());
     for_each_index(clipped.size(), p.threads, [&](std::size_t k) {
       slice.check();
-      const auto same = posed_before.find(key(clipped[k]));
+      keys[k] = key(clipped[k]);
+      const auto same = posed_before.find(keys[k]);
       if (same != posed_before.end())
         parts[k] = same->second;
       else
@@ -759,8 +761,9 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
       posing.report(double(++posed_runs) / double(clipped.size()));
     });
     posed_before.clear();
-    for (std::size_t k = 0; k < clipped.size(); ++k)
-      posed_before.emplace(key(clipped[k]), parts[k]);
+    if (attempt < 3)  // (the last attempt is posed for good)
+      for (std::size_t k = 0; k < clipped.size(); ++k)
+        posed_before.emplace(std::move(keys[k]), parts[k]);
     out.posed = PoseOut();
     for (PoseOut& part : parts) out.posed.append(std::move(part));
     raised.add(g, out.posed.runs);

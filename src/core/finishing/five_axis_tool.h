@@ -108,9 +108,9 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
 // rim (48) and two inner rings, each against its nearest surface point
 // found by Newton's method (from uv, or from the foot of the ring's sample
 // before moved by the step between the two samples), digging in by rc -
-// (its signed height); points whose nearest
-// point is on the grid's boundary (the tool overhangs the untrimmed
-// surface) or outside `inside` do not count.
+// (its signed height); points whose nearest point is on the grid's
+// boundary (the tool overhangs the untrimmed surface) or outside `inside`
+// do not count.
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside);
@@ -140,26 +140,27 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
   } rings[] = {{1.0, 48}, {0.66, 24}, {0.33, 12}};
   for (const auto& ring : rings) {
     // Each sample's Newton starts where its neighbour's foot on the ring
-    // predicts it, the first from uv.
-    ParamPt start = uv;
+    // predicts it (that foot moved by the tangential part of the step
+    // between the two samples: a first Newton step for free), the first
+    // from uv.
+    bool have_prev = false;
+    gp_Pnt prev_x;
+    ParamPt prev_foot;
+    SurfaceDerivs prev_d;
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
       const gp_Pnt x =
           pose.tip.Translated(pose.axis * tool.corner +
                               (e1 * std::cos(th) + e2 * std::sin(th)) * (tool.core() * ring.r));
+      const ParamPt start =
+          have_prev ? predicted_foot(g, prev_foot, prev_d, gp_Vec(prev_x, x)) : uv;
       ParamPt foot;
       SurfaceDerivs d;
       const bool on = nearest_on(g, x, start, &foot, &d);
-      start = on ? foot : uv;
-      if (on) {
-        // The next sample's start: this foot moved by the tangential part
-        // of the step to the next sample (a first Newton step for free).
-        const double th2 = 2 * M_PI * (q + 1) / ring.n;
-        const gp_Vec step =
-            (e1 * (std::cos(th2) - std::cos(th)) + e2 * (std::sin(th2) - std::sin(th))) *
-            (tool.core() * ring.r);
-        start = predicted_foot(g, foot, d, step);
-      }
+      have_prev = on;
+      prev_x = x;
+      prev_foot = foot;
+      prev_d = d;
       if (!on || !inside(foot)) continue;
       const double hgt = gp_Vec(d.p, x).Dot(g.normal(foot.u, foot.v, &d));
       depth = std::max(depth, tool.corner - hgt);

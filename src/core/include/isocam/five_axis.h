@@ -81,8 +81,8 @@
 // moves less. Positions whose axis needs A outside the range are left out
 // (unreachable). Where the axis is near vertical, a lead that follows the
 // zig-zag's feed turns C by half a turn between passes; lag_on_return
-// keeps the tilt's side instead (A from 0 suffices). Coordinates x, y, z are the tip in the part
-// (work) frame.
+// keeps the tilt's side instead (A from 0 suffices). Coordinates x, y, z
+// are the tip in the part (work) frame.
 //
 // Links (finishing/five_axis_link.h). Each run is entered by a fed move
 // along its start axis over the air clearance and left by a rapid retract
