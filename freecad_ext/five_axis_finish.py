@@ -279,6 +279,25 @@ _OUTPUTS = (
         ),
     ),
     (
+        "App::PropertyInteger",
+        "UnconvergedMoves",
+        "unconverged_moves",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Moves where the pose still jumps after 12 halvings (the lead raised on one side): "
+            "the swing there is checked instead",
+        ),
+    ),
+    (
+        "App::PropertyInteger",
+        "SwingsSplit",
+        "swings_split",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "Of UnconvergedMoves: swings that would gouge or hit the model; the path is split there",
+        ),
+    ),
+    (
         "App::PropertyFloat",
         "MaxLeadUsed",
         "max_lead_used",
@@ -512,7 +531,8 @@ def _combined(results):
         "rotary_travel_c",
     ):
         out[attr] = sum(getattr(r.metrics, attr) for r in results)
-    out["paths"] = sum(int(r.metrics.paths) for r in results)
+    for attr in ("paths", "unconverged_moves", "swings_split"):
+        out[attr] = sum(int(getattr(r.metrics, attr)) for r in results)
     for attr in (
         "flat_strip_width",
         "max_spacing",

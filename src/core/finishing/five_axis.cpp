@@ -397,14 +397,14 @@ constexpr double kAxisDeviation = 2e-4;
 // The deepest the refinement halves a segment between two run samples.
 constexpr int kMaxHalvings = 12;
 
-// The axis halfway between two in the machine's interpolation: A and C of
-// each (C of the other where one is vertical, C unwrapped to the nearest
-// branch, as axes_to_ac() posts them), averaged.
-gp_Vec ac_midpoint(const gp_Vec& p, const gp_Vec& q) {
+// The axis at s (0 at p, 1 at q) of the machine's interpolation between
+// two: A and C of each (C of the other where one is vertical, C unwrapped
+// to the nearest branch, as axes_to_ac() posts them), interpolated.
+gp_Vec ac_lerp(const gp_Vec& p, const gp_Vec& q, double s) {
   auto ac = [](const gp_Vec& v, double* A, double* C) {
-    const double s = std::hypot(v.X(), v.Y());
-    *A = std::atan2(s, v.Z());
-    *C = s < 1e-12 ? std::nan("") : std::atan2(v.X(), -v.Y());
+    const double r = std::hypot(v.X(), v.Y());
+    *A = std::atan2(r, v.Z());
+    *C = r < 1e-12 ? std::nan("") : std::atan2(v.X(), -v.Y());
   };
   double a1, c1, a2, c2;
   ac(p, &a1, &c1);
@@ -412,7 +412,7 @@ gp_Vec ac_midpoint(const gp_Vec& p, const gp_Vec& q) {
   if (std::isnan(c1)) c1 = std::isnan(c2) ? 0.0 : c2;
   if (std::isnan(c2)) c2 = c1;
   c2 += 2 * M_PI * std::round((c1 - c2) / (2 * M_PI));
-  const double A = 0.5 * (a1 + a2), C = 0.5 * (c1 + c2);
+  const double A = (1 - s) * a1 + s * a2, C = (1 - s) * c1 + s * c2;
   return gp_Vec(std::sin(A) * std::sin(C), -std::sin(A) * std::cos(C), std::cos(A));
 }
 
@@ -427,13 +427,15 @@ struct Posed {
   double depth = 0;           // tool_depth of the pose, computed once by Poser::pose
   bool raised = false;        // lead above the job's lead
   bool raised_exact = false;  // ... and above what the curvature asks for there
+  bool swing = false;         // a pose of a checked swing that failed: the run splits here
 };
 
 struct PoseOut {
   std::vector<std::vector<Posed>> runs;
   double unreachable = 0, max_lead = 0;
   int raised = 0, gouge_left = 0, shank_left = 0, range_left = 0;
-  int unconverged = 0;  // refinements that reached their depth limit
+  int unconverged = 0;   // refinements that reached their depth limit
+  int swings_split = 0;  // ... whose swing failed its check
 
   // o's runs after these, its counts added.
   void append(PoseOut&& o) {
@@ -445,6 +447,7 @@ struct PoseOut {
     shank_left += o.shank_left;
     range_left += o.range_left;
     unconverged += o.unconverged;
+    swings_split += o.swings_split;
   }
 };
 
@@ -508,7 +511,10 @@ class Poser {
     for (std::size_t k = 0; k < pts.size(); ++k) {
       Posed& x = pts[k];
       bool ok = true;
-      if (x.depth > job_.p.gouge_tolerance) {
+      if (x.swing) {
+        ++out->swings_split;
+        ok = false;
+      } else if (x.depth > job_.p.gouge_tolerance) {
         ++out->gouge_left;
         ok = false;
       } else if (!job_.capsule_clear(x.pose.tip, x.pose.axis) ||
@@ -523,7 +529,9 @@ class Poser {
         ok = false;
       }
       if (!ok) {
-        if (k > 0) out->unreachable += pts[k - 1].pose.tip.Distance(x.pose.tip);
+        // A failed swing leaves no contact path out: its two ends touch the
+        // same point (the tool lifts at one and comes down at the other).
+        if (k > 0 && !x.swing) out->unreachable += pts[k - 1].pose.tip.Distance(x.pose.tip);
         flush();
         continue;
       }
@@ -585,15 +593,42 @@ class Poser {
     if (!pose(m, seg.fa * (1 - t) + seg.fb * t, &x, (1 - t) * seg.la + t * seg.lb)) return;
     const gp_Pnt mid((a.pose.tip.XYZ() + b.pose.tip.XYZ()) * 0.5);
     if (turn <= job_.step && mid.Distance(x.pose.tip) <= job_.b.chord &&
-        ac_midpoint(a.pose.axis, b.pose.axis).Angle(x.pose.axis) <= kAxisDeviation)
+        ac_lerp(a.pose.axis, b.pose.axis, 0.5).Angle(x.pose.axis) <= kAxisDeviation)
       return;
     if (level >= kMaxHalvings) {
       ++*unconverged;
+      if (!swing_clear(a, b, &x)) out->push_back(x);
       return;
     }
     refine(seg, a, ta, x, t, level + 1, out, unconverged);
     out->push_back(x);
     refine(seg, x, t, b, tb, level + 1, out, unconverged);
+  }
+  // Where the halving ends with the poses apart (the pose jumps: the exact
+  // check raised the lead on one side and not on the other), the swing the
+  // machine makes between a and b (the tip along the chord, A and C
+  // interpolated) is checked as every position is: at poses no more than
+  // the axis step apart, the cutting end against the face and the shank
+  // against the model. False if one fails, *x then that pose, marked to
+  // split the run there.
+  bool swing_clear(const Posed& a, const Posed& b, Posed* x) const {
+    const int n =
+        std::max(2, static_cast<int>(std::ceil(a.pose.axis.Angle(b.pose.axis) / job_.step)));
+    for (int k = 1; k < n; ++k) {
+      const double s = static_cast<double>(k) / n;
+      Posed w;
+      w.uv = {(1 - s) * a.uv.u + s * b.uv.u, (1 - s) * a.uv.v + s * b.uv.v};
+      w.pose.tip = gp_Pnt(a.pose.tip.XYZ() * (1 - s) + b.pose.tip.XYZ() * s);
+      w.pose.axis = ac_lerp(a.pose.axis, b.pose.axis, s);
+      w.lead = (1 - s) * a.lead + s * b.lead;
+      w.depth = depth(w);
+      if (w.depth > job_.p.gouge_tolerance || !job_.capsule_clear(w.pose.tip, w.pose.axis)) {
+        w.swing = true;
+        *x = w;
+        return false;
+      }
+    }
+    return true;
   }
 
   const PatchGrid& g_;
@@ -876,12 +911,14 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
     m.unreachable_length += posed.unreachable;
     m.lead_raised_points += posed.raised;
     m.unconverged_moves += posed.unconverged;
+    m.swings_split += posed.swings_split;
     if (posed.unconverged > 0)
-      result.warnings.push_back(face_label(face.index) + ": at " +
-                                std::to_string(posed.unconverged) +
-                                " moves the tool's pose still changed by more than the "
-                                "tolerances after " +
-                                std::to_string(kMaxHalvings) + " halvings between two positions");
+      result.warnings.push_back(
+          face_label(face.index) + ": at " + std::to_string(posed.unconverged) +
+          " moves the tool's pose still changed by more than the tolerances after " +
+          std::to_string(kMaxHalvings) +
+          " halvings between two positions; the swing there was checked, and the path split at " +
+          std::to_string(posed.swings_split) + " of them where it would gouge or hit the model");
     m.max_lead_used = std::max(m.max_lead_used, posed.max_lead / kDegree);
     if (posed.raised > 0)
       result.warnings.push_back(face_label(face.index) + ": the lead was raised above " +

@@ -201,8 +201,13 @@ struct FiveAxisMetrics {
   int lead_raised_points = 0;       // posted positions whose lead was raised
   // Moves between two posted positions whose poses (tip off the chord, axis
   // off the interpolated one, or turn) still differ by more than the
-  // tolerances after 12 halvings: the machine's swing there is not checked.
-  int unconverged_moves = 0;
+  // tolerances after 12 halvings (the pose jumps where the exact check
+  // raised the lead on one side only). There the swing the machine makes
+  // (tip along the chord, A and C interpolated) is checked at poses no more
+  // than max_axis_step apart, as positions are: the cutting end against the
+  // face, the shank against the model. swings_split of them failed and the
+  // path is split there (the tool lifts instead of swinging).
+  int unconverged_moves = 0, swings_split = 0;
   int paths = 0, retracts = 0;
   int low_links = 0, safe_hops = 0;  // links between runs: low, or through the safe height
 };
