@@ -620,7 +620,6 @@ class Poser {
       w.uv = {(1 - s) * a.uv.u + s * b.uv.u, (1 - s) * a.uv.v + s * b.uv.v};
       w.pose.tip = gp_Pnt(a.pose.tip.XYZ() * (1 - s) + b.pose.tip.XYZ() * s);
       w.pose.axis = ac_lerp(a.pose.axis, b.pose.axis, s);
-      w.lead = (1 - s) * a.lead + s * b.lead;
       w.depth = depth(w);
       if (w.depth > job_.p.gouge_tolerance || !job_.capsule_clear(w.pose.tip, w.pose.axis)) {
         w.swing = true;
