@@ -227,6 +227,68 @@ bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, 
   return !clamped;
 }
 
+namespace {
+// The interval of t where S + t N is in the cylinder of radius r about the
+// axis from base, at heights >= h0 along it (unbounded above); false where
+// the line misses it.
+bool line_in_cylinder(const gp_Pnt& s, const gp_Vec& n, const gp_Pnt& base, const gp_Vec& axis,
+                      double r, double h0, double* lo, double* hi) {
+  const gp_Vec w(base, s);
+  const double wa = w.Dot(axis), na = n.Dot(axis);
+  *lo = -kInf;
+  *hi = kInf;
+  if (std::abs(na) > 1e-12) {
+    (na > 0 ? *lo : *hi) = (h0 - wa) / na;
+  } else if (wa < h0) {
+    return false;
+  }
+  const gp_Vec wp = w - axis * wa, np = n - axis * na;
+  const double qa = np.Dot(np), qb = 2 * wp.Dot(np), qc = wp.Dot(wp) - r * r;
+  if (qa > 1e-15) {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc < 0) return false;
+    const double sq = std::sqrt(disc);
+    *lo = std::max(*lo, (-qb - sq) / (2 * qa));
+    *hi = std::min(*hi, (-qb + sq) / (2 * qa));
+  } else if (qc > 0) {
+    return false;
+  }
+  return *lo <= *hi;
+}
+}  // namespace
+
+double depth_below(const PatchGrid& g, const ParamPt& e, const ToolPose& pose, const Cutter& tool) {
+  SurfaceDerivs d = g.d1(e.u, e.v);
+  const gp_Pnt s = d.p;
+  const gp_Vec n = g.normal(e.u, e.v, &d);
+  double entry = kInf, lo, hi;
+  if (line_in_cylinder(s, n, pose.tip, pose.axis, tool.radius, tool.corner, &lo, &hi)) entry = lo;
+  if (tool.corner > 0) {
+    // The distance from S + t N to the core disc, convex in t; the line
+    // meets the corner within R of the disc's centre c: |t - tc| <= R.
+    const gp_Pnt c = pose.tip.Translated(pose.axis * tool.corner);
+    auto dist = [&](double t) {
+      const gp_Vec y(c, s.Translated(n * t));
+      const double h = y.Dot(pose.axis);
+      const double out = std::max(0.0, (y - pose.axis * h).Magnitude() - tool.core());
+      return std::hypot(h, out);
+    };
+    const double tc = gp_Vec(s, c).Dot(n);
+    double in = 0.0;
+    const double closest = -golden_max([&](double t) { return -dist(t); }, tc - tool.radius,
+                                       tc + tool.radius, 80, &in);
+    if (closest <= tool.corner) {
+      double out = tc - tool.radius;  // dist there >= rc
+      for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (out + in);
+        (dist(mid) <= tool.corner ? in : out) = mid;
+      }
+      entry = std::min(entry, in);
+    }
+  }
+  return -entry;
+}
+
 ParamPt predicted_foot(const PatchGrid& g, const ParamPt& foot, const SurfaceDerivs& d,
                        const gp_Vec& step) {
   double du, dv;

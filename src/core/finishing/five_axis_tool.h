@@ -23,8 +23,11 @@
 // the edge (conservative for the strip: it could only cut more).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <gp_Pnt.hxx>
 #include <gp_Vec.hxx>
+#include <limits>
 
 #include "finishing/scallop_front.h"
 #include "geometry/patch_grid.h"
@@ -108,12 +111,27 @@ bool contact_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir, Con
 // rim (48) and two inner rings, each against its nearest surface point
 // found by Newton's method (from uv, or from the foot of the ring's sample
 // before moved by the step between the two samples), digging in by rc -
-// (its signed height); points whose nearest point is on the grid's
-// boundary (the tool overhangs the untrimmed surface) or outside `inside`
-// do not count.
+// (its signed height). A point whose nearest point is off the face (on
+// the grid's boundary, where the tool overhangs the untrimmed surface, or
+// outside `inside`) is over the face's edge: there the depth counted is
+// the tool's below the face's edge point E nearest it (depth_below), the
+// clamped foot, or where the parameter segment from uv to the foot leaves
+// the face (bisection). So a tool that overhangs the edge on ground rising
+// beyond it, and reaches under the face there, is seen; one wholly beyond
+// the edge is not. The rim's deepest sample over the edge is refined
+// between its neighbours (the side standing on the rim may reach under the
+// edge along a stretch shorter than the samples' spacing).
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside);
+
+// How far the tool of the pose reaches below the surface point at e along
+// its normal (negative: how far above it; -inf where the line misses the
+// tool): the line through it met exactly with the cylinder of radius R
+// above the height rc and, for a bull nose, the corner (the points within
+// rc of the core disc: its entry found by bisection on the distance, which
+// is convex along the line).
+double depth_below(const PatchGrid& g, const ParamPt& e, const ToolPose& pose, const Cutter& tool);
 
 // Nearest point of g to x by Newton from uv; false if it ends on the
 // rectangle's boundary. `foot` receives its parameters and `at` (if given)
@@ -126,6 +144,40 @@ bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot,
 ParamPt predicted_foot(const PatchGrid& g, const ParamPt& foot, const SurfaceDerivs& d,
                        const gp_Vec& step);
 
+// The largest value of f met by a golden-section search for its maximum on
+// [a, b] (`iterations` steps; f unimodal there), *at its argument.
+template <class F>
+double golden_max(const F& f, double a, double b, int iterations, double* at = nullptr) {
+  const double k = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = b - k * (b - a), x2 = a + k * (b - a), f1 = f(x1), f2 = f(x2);
+  double best = std::max(f1, f2), best_x = f1 >= f2 ? x1 : x2;
+  for (int it = 0; it < iterations; ++it) {
+    if (f1 >= f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - k * (b - a);
+      f1 = f(x1);
+      if (f1 > best) {
+        best = f1;
+        best_x = x1;
+      }
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + k * (b - a);
+      f2 = f(x2);
+      if (f2 > best) {
+        best = f2;
+        best_x = x2;
+      }
+    }
+  }
+  if (at) *at = best_x;
+  return best;
+}
+
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside) {
@@ -133,7 +185,34 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
   if (e1.Magnitude() < 1e-6) e1 = pose.axis.Crossed(gp_Vec(1, 0, 0));
   e1.Normalize();
   const gp_Vec e2 = pose.axis.Crossed(e1);
+  auto point = [&](double th, double r) {
+    return pose.tip.Translated(pose.axis * tool.corner +
+                               (e1 * std::cos(th) + e2 * std::sin(th)) * (tool.core() * r));
+  };
+  // The signed depth at the core disc's point x, its Newton from `start`:
+  // against its foot if that is on the face (*over false), else the
+  // tool's below the face's edge point nearest it (*over true).
+  auto probe = [&](const gp_Pnt& x, const ParamPt& start, ParamPt* foot, SurfaceDerivs* d, bool* on,
+                   bool* over) {
+    *on = nearest_on(g, x, start, foot, d);
+    *over = !*on || !inside(*foot);
+    if (!*over) return tool.corner - gp_Vec(d->p, x).Dot(g.normal(foot->u, foot->v, d));
+    if (!inside(uv)) return -std::numeric_limits<double>::infinity();
+    ParamPt e = *foot;
+    if (!inside(e)) {
+      ParamPt lo = uv;  // inside; e outside
+      for (int it = 0; it < 40; ++it) {
+        const ParamPt mid{0.5 * (lo.u + e.u), 0.5 * (lo.v + e.v)};
+        (inside(mid) ? lo : e) = mid;
+      }
+      e = lo;
+    }
+    return depth_below(g, e, pose, tool);
+  };
   double depth = 0.0;
+  // The rim's deepest sample over the edge (its angle and Newton start).
+  double edge_best = -std::numeric_limits<double>::infinity(), edge_th = 0.0;
+  ParamPt edge_start = uv;
   const struct {
     double r;
     int n;
@@ -149,22 +228,38 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
     SurfaceDerivs prev_d;
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
-      const gp_Pnt x =
-          pose.tip.Translated(pose.axis * tool.corner +
-                              (e1 * std::cos(th) + e2 * std::sin(th)) * (tool.core() * ring.r));
+      const gp_Pnt x = point(th, ring.r);
       const ParamPt start =
           have_prev ? predicted_foot(g, prev_foot, prev_d, gp_Vec(prev_x, x)) : uv;
       ParamPt foot;
       SurfaceDerivs d;
-      const bool on = nearest_on(g, x, start, &foot, &d);
+      bool on, over;
+      const double s = probe(x, start, &foot, &d, &on, &over);
       have_prev = on;
       prev_x = x;
       prev_foot = foot;
       prev_d = d;
-      if (!on || !inside(foot)) continue;
-      const double hgt = gp_Vec(d.p, x).Dot(g.normal(foot.u, foot.v, &d));
-      depth = std::max(depth, tool.corner - hgt);
+      depth = std::max(depth, s);
+      if (over && ring.r == 1.0 && s > edge_best) {
+        edge_best = s;
+        edge_th = th;
+        edge_start = start;
+      }
     }
+  }
+  // Where the rim overhangs the edge, the side standing on it may reach
+  // under the face along a stretch of the edge shorter than the samples'
+  // spacing: the deepest rim sample over the edge is refined by a golden
+  // section search between its neighbours.
+  if (edge_best > -std::numeric_limits<double>::infinity()) {
+    const double span = 2 * M_PI / rings[0].n;
+    auto f = [&](double th) {
+      ParamPt foot;
+      SurfaceDerivs d;
+      bool on, over;
+      return probe(point(th, 1.0), edge_start, &foot, &d, &on, &over);
+    };
+    depth = std::max(depth, golden_max(f, edge_th - span, edge_th + span, 24));
   }
   return depth;
 }
