@@ -18,6 +18,7 @@ Watchdogs keep a test from hanging:
   lets Python threads run; otherwise `timeout` in run_gui_test.sh does.
 """
 
+import faulthandler
 import importlib.util
 import os
 import sys
@@ -33,6 +34,9 @@ TIMEOUT = float(os.environ.get("ISOCAM_GUI_TIMEOUT", "150"))
 STARTED = time.monotonic()
 
 _log = open(os.environ["ISOCAM_LOG_FILE"], "a", buffering=1)
+# A crash of FreeCAD (SIGSEGV) prints the Python line it came from in the log,
+# before FreeCAD's own handler prints the C++ stack.
+faulthandler.enable(file=_log, all_threads=False)
 
 
 def _finish(passed, reason="", gui_thread=True):
