@@ -323,10 +323,18 @@ def choose_in_combo(combo, text):
 
 
 def task_button(which):
-    """The Task view's standard button `which` (QDialogButtonBox.Ok...)."""
+    """The Task view's standard button `which` (QDialogButtonBox.Ok...).
+
+    Looked for in the dock that holds the task panels, not in the whole
+    main window: each findChildren converts every descendant to a Python
+    wrapper, and tests poll this many times a second (the fewer wrappers
+    made and dropped, the fewer chances to meet a stale one, see
+    children())."""
     show_tasks()
-    window = FreeCADGui.getMainWindow()
-    for box in children(window, QtGui.QDialogButtonBox):
+    where = combo_view()
+    if where is None:
+        where = FreeCADGui.getMainWindow()
+    for box in children(where, QtGui.QDialogButtonBox):
         try:
             button = box.button(which)
             if button is not None and button.isVisible():
