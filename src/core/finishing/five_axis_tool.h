@@ -192,18 +192,31 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
   // The signed depth at the core disc's point x, its Newton from `start`:
   // against its foot if that is on the face (*over false), else the
   // tool's below the face's edge point nearest it (*over true).
+  // The bisection for the edge point ends where the two ends are within
+  // kEdgeTol mm of each other on the surface (each step one evaluation
+  // and one inside(), which near the edge is the face classifier's work).
+  constexpr double kEdgeTol = 1e-5;
+  const bool uv_inside = inside(uv);
   auto probe = [&](const gp_Pnt& x, const ParamPt& start, ParamPt* foot, SurfaceDerivs* d, bool* on,
                    bool* over) {
     *on = nearest_on(g, x, start, foot, d);
     *over = !*on || !inside(*foot);
     if (!*over) return tool.corner - gp_Vec(d->p, x).Dot(g.normal(foot->u, foot->v, d));
-    if (!inside(uv)) return -std::numeric_limits<double>::infinity();
+    if (!uv_inside) return -std::numeric_limits<double>::infinity();
     ParamPt e = *foot;
     if (!inside(e)) {
       ParamPt lo = uv;  // inside; e outside
-      for (int it = 0; it < 40; ++it) {
+      gp_Pnt p_lo = g.eval(lo.u, lo.v), p_e = d->p;
+      for (int it = 0; it < 60 && p_lo.SquareDistance(p_e) > kEdgeTol * kEdgeTol; ++it) {
         const ParamPt mid{0.5 * (lo.u + e.u), 0.5 * (lo.v + e.v)};
-        (inside(mid) ? lo : e) = mid;
+        const gp_Pnt p_mid = g.eval(mid.u, mid.v);
+        if (inside(mid)) {
+          lo = mid;
+          p_lo = p_mid;
+        } else {
+          e = mid;
+          p_e = p_mid;
+        }
       }
       e = lo;
     }
