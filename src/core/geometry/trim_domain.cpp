@@ -53,7 +53,7 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
       surface_(BRep_Tool::Surface(face)),
       grid_(&grid),
       label_(face_label) {
-  classifier_ = std::make_unique<BRepTopAdaptor_FClass2d>(face_, 1e-9);
+  idle_classifiers_.push_back(std::make_unique<BRepTopAdaptor_FClass2d>(face_, 1e-9));
   BRepTools::UVBounds(face_, fmin_[0], fmax_[0], fmin_[1], fmax_[1]);
   const double range = std::max(fmax_[0] - fmin_[0], fmax_[1] - fmin_[1]);
   hatcher_ = std::make_unique<Geom2dHatch_Hatcher>(
@@ -342,8 +342,19 @@ TrimDomain::RectClass TrimDomain::classify_rect(double u0, double u1, double v0,
 }
 
 TopAbs_State TrimDomain::classify_point(double fu, double fv) const {
-  const std::lock_guard<std::mutex> guard(*classifier_lock_);
-  return classifier_->Perform(gp_Pnt2d(fu, fv));
+  std::unique_ptr<BRepTopAdaptor_FClass2d> classifier;
+  {
+    const std::lock_guard<std::mutex> guard(*classifiers_lock_);
+    if (!idle_classifiers_.empty()) {
+      classifier = std::move(idle_classifiers_.back());
+      idle_classifiers_.pop_back();
+    }
+  }
+  if (!classifier) classifier = std::make_unique<BRepTopAdaptor_FClass2d>(face_, 1e-9);
+  const TopAbs_State state = classifier->Perform(gp_Pnt2d(fu, fv));
+  const std::lock_guard<std::mutex> guard(*classifiers_lock_);
+  idle_classifiers_.push_back(std::move(classifier));
+  return state;
 }
 
 TrimDomain::~TrimDomain() = default;

@@ -94,11 +94,14 @@ class TrimDomain {
 
   TopoDS_Face face_;
   Handle(Geom_Surface) surface_;  // the face's own surface (with its location)
-  std::unique_ptr<BRepTopAdaptor_FClass2d> classifier_;  // built once, reused
   // OpenCASCADE's classifier is not safe to run on two threads at once (two
-  // clearance queries classifying on one face crashed in Perform): every
-  // call goes through classify_point(), under this lock.
-  std::unique_ptr<std::mutex> classifier_lock_ = std::make_unique<std::mutex>();
+  // clearance queries classifying on one face crashed in Perform): each
+  // call of classify_point() takes an idle one from this pool (or builds
+  // one) and gives it back, so each classifier runs on one thread at a time
+  // and two threads do not wait for each other's classification. The lock
+  // is held only to take and give back.
+  mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> idle_classifiers_;
+  std::unique_ptr<std::mutex> classifiers_lock_ = std::make_unique<std::mutex>();
   TopAbs_State classify_point(double fu, double fv) const;
   const PatchGrid* grid_;
   std::vector<Box2> boundary_;  // boxes that contain the edges' p-curves
