@@ -59,12 +59,21 @@ def true_type(obj):
 
 def true_type_children(form):
     """Re-point the form's attributes (one per named child, as a loaded
-    .ui gives) at wrappers of their children's own classes."""
-    for child in form.findChildren(QtCore.QObject):
-        name = child.objectName()
-        held = getattr(form, name, None) if name else None
-        if not isinstance(held, QtCore.QObject):
+    .ui gives) at wrappers of their children's own classes.
+
+    The attributes are read from the form itself, not found again by
+    findChildren: that converts every child to a wrapper, and for a child
+    at the address of a deleted object it handed out the deleted object's
+    wrapper, which raised "Internal C++ object (QDialogButtonBox) already
+    deleted" (FreeCAD 0.20, a panel reopened after others had closed): the
+    panel did not open. A wrapper that is no longer valid is left alone."""
+    held = getattr(form, "__dict__", {})
+    for name, obj in list(held.items()):
+        if not isinstance(obj, QtCore.QObject):
             continue
-        fixed = true_type(held)
-        if fixed is not held:
+        try:
+            fixed = true_type(obj)
+        except RuntimeError:  # its object is gone: nothing to re-point
+            continue
+        if fixed is not obj:
             setattr(form, name, fixed)

@@ -18,10 +18,10 @@ import unittest
 
 import FreeCAD
 import FreeCADGui
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 import gui_support as gui
-from freecad_ext import adaptive_isocurve, compat, scripting
+from freecad_ext import adaptive_isocurve, compat, operations, scripting
 
 COMMAND = "IsoCAM_AdaptiveIsocurve"
 
@@ -123,6 +123,14 @@ class BadInput(unittest.TestCase):
         self.assertIs(form.ScallopHeight, spin)
         self.assertIs(qt_objects.true_type(None), None)
         form.deleteLater()
+        # true_type_children reads the named children from the form's own
+        # attributes: a form loaded from our .ui file has them there.
+        loaded = FreeCADGui.PySideUic.loadUi(
+            operations.panel_path(operations.spec_named("AdaptiveIsocurve"))
+        )
+        held = {k for k, v in vars(loaded).items() if isinstance(v, QtCore.QObject)}
+        self.assertLessEqual({"toolController", "ScallopHeight"}, held)
+        loaded.deleteLater()
 
     def test_a_panel_that_fails_to_open_leaves_nothing_open_or_changed(self):
         """A page that raises while the panel is set up (as a wrong widget
