@@ -364,13 +364,8 @@ std::vector<ClippedRun> clip_face(const PatchGrid& g, const TrimDomain& trim, bo
           const ParamPt x = k == 0 ? pc[0].uv : lerp(pc[k - 1].uv, pc[k].uv, double(q) / parts);
           const bool s = inside(x);
           if (k > 0 && s != in) {
-            ParamPt lo = in ? prev : x, hi = in ? x : prev;  // lo inside
-            for (int it = 0; it < 60; ++it) {
-              if (g.eval(lo.u, lo.v).Distance(g.eval(hi.u, hi.v)) <= tol) break;
-              const ParamPt m = lerp(lo, hi, 0.5);
-              (inside(m) ? lo : hi) = m;
-            }
-            cur.push_back(lo);
+            const ParamPt lo = in ? prev : x, hi = in ? x : prev;  // lo inside
+            cur.push_back(bisect_to_edge(g, lo, hi, g.eval(hi.u, hi.v), inside, tol));
             if (in) {
               if (cur.size() >= 2) path_runs.push_back(cur);
               cur.clear();

@@ -178,6 +178,28 @@ double golden_max(const F& f, double a, double b, int iterations, double* at = n
   return best;
 }
 
+// The inside end of the parameter segment from `in` (inside) to `out`
+// (outside, its surface point p_out) bisected at the boundary of `inside`
+// until the two ends are within `tol` mm on the surface (one evaluation
+// and one inside() a step).
+template <class Inside>
+ParamPt bisect_to_edge(const PatchGrid& g, ParamPt in, ParamPt out, gp_Pnt p_out,
+                       const Inside& inside, double tol) {
+  gp_Pnt p_in = g.eval(in.u, in.v);
+  for (int it = 0; it < 60 && p_in.SquareDistance(p_out) > tol * tol; ++it) {
+    const ParamPt mid{0.5 * (in.u + out.u), 0.5 * (in.v + out.v)};
+    const gp_Pnt p_mid = g.eval(mid.u, mid.v);
+    if (inside(mid)) {
+      in = mid;
+      p_in = p_mid;
+    } else {
+      out = mid;
+      p_out = p_mid;
+    }
+  }
+  return in;
+}
+
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside) {
@@ -200,26 +222,11 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
   auto probe = [&](const gp_Pnt& x, const ParamPt& start, ParamPt* foot, SurfaceDerivs* d, bool* on,
                    bool* over) {
     *on = nearest_on(g, x, start, foot, d);
-    *over = !*on || !inside(*foot);
+    const bool foot_inside = inside(*foot);
+    *over = !*on || !foot_inside;
     if (!*over) return tool.corner - gp_Vec(d->p, x).Dot(g.normal(foot->u, foot->v, d));
     if (!uv_inside) return -std::numeric_limits<double>::infinity();
-    ParamPt e = *foot;
-    if (!inside(e)) {
-      ParamPt lo = uv;  // inside; e outside
-      gp_Pnt p_lo = g.eval(lo.u, lo.v), p_e = d->p;
-      for (int it = 0; it < 60 && p_lo.SquareDistance(p_e) > kEdgeTol * kEdgeTol; ++it) {
-        const ParamPt mid{0.5 * (lo.u + e.u), 0.5 * (lo.v + e.v)};
-        const gp_Pnt p_mid = g.eval(mid.u, mid.v);
-        if (inside(mid)) {
-          lo = mid;
-          p_lo = p_mid;
-        } else {
-          e = mid;
-          p_e = p_mid;
-        }
-      }
-      e = lo;
-    }
+    const ParamPt e = foot_inside ? *foot : bisect_to_edge(g, uv, *foot, d->p, inside, kEdgeTol);
     return depth_below(g, e, pose, tool);
   };
   double depth = 0.0;
