@@ -113,6 +113,16 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
         }
       }
       table_margin_[dir] = 2.0 * err + 1e-9 * range;
+      // A map that is affine (a plane's, an extrusion's along its
+      // direction) to within 1e-10 of the range at every tabulated point
+      // and midpoint is taken as such: to_face() then needs no projection
+      // (which near the edges is most of the work of contains()).
+      const double a = (f.back() - f.front()) / (g1 - g0), b = f.front() - a * g0;
+      double off = err;
+      for (int k = 0; k <= n; ++k)
+        off = std::max(off, std::abs(f[static_cast<std::size_t>(k)] -
+                                     (a * table_g_[dir][static_cast<std::size_t>(k)] + b)));
+      if (off <= 1e-10 * range) affine_[dir] = {a, b};
     }
   }
 }
@@ -363,6 +373,7 @@ TrimDomain& TrimDomain::operator=(TrimDomain&&) noexcept = default;
 
 double TrimDomain::to_face(int dir, double g) const {
   if (grid_->same_params_as_face()) return g;
+  if (affine_[dir]) return affine_[dir]->first * g + affine_[dir]->second;
   // The NURBS form of an analytic surface maps each parameter on its own:
   // project a grid point onto the face's surface and read one coordinate.
   const double other =

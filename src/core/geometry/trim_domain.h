@@ -11,7 +11,9 @@
 #include <array>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "geometry/bernstein.h"
@@ -118,6 +120,7 @@ class TrimDomain {
   std::vector<QuadNode> quad_;
   std::vector<double> table_g_[2], table_f_[2];
   double table_margin_[2] = {0, 0};
+  std::optional<std::pair<double, double>> affine_[2];  // to_face() = a g + b where set
   int label_;
   double fmin_[2], fmax_[2];  // the face's parameter bounds
   std::unique_ptr<Geom2dHatch_Hatcher> hatcher_;
