@@ -170,6 +170,51 @@ TEST(FiveAxis, DepthCountsTheToolUnderAFacesEdge) {
   EXPECT_EQ(tool_depth(g, contact, pose, Cutter{3.0, 1.0}, anywhere), 0.0);
 }
 
+TEST(FiveAxis, OtherFaceDepthCountsTheSideAndNotBehindAConvexEdge) {
+  // A wall x = 0 (material at x > 0: the face's normal -x), y in [-10, 10],
+  // z in [0, 3]; a flat end R 3 whose side stands 0.1 mm into it.
+  const auto inside = [](const ParamPt&) { return true; };
+  const Cutter flat{3.0, 0.0};
+  const gp_Ax3 wall_frame(gp_Pnt(0, 0, 0), gp_Dir(-1, 0, 0), gp_Dir(0, 1, 0));
+  const PatchGrid wall =
+      PatchGrid::from_face(BRepBuilderAPI_MakeFace(gp_Pln(wall_frame), -10, 10, -3, 0).Face(), 1);
+  const ParamPt mid{0.0, -1.5};  // (v runs down: the frame's y is N x X = -z)
+  const ToolPose upright{gp_Pnt(-2.9, 0, 0.5), gp_Vec(0, 0, 1)};
+  EXPECT_NEAR(signed_tool_depth(wall, mid, upright, flat, inside, true), 0.1, 1e-9);
+  // Leaning 10 degrees towards the wall, the disc's rim 0.47 mm off it and
+  // the side at R above the tip 0.05 mm into it (2.93 mm high): only the
+  // side sees it. The side reaches further in the higher it is, so the
+  // wall's deepest point in the tool is its top edge's at y = 0 (the edge
+  // point nearest the side samples above the wall): R - its distance from
+  // the axis.
+  const double a = 10 * kDeg;
+  const ToolPose lean{gp_Pnt(0.05 - 3.0 * (std::sin(a) + std::cos(a)), 0, 0.5),
+                      gp_Vec(std::sin(a), 0, std::cos(a))};
+  const gp_Vec to_top(lean.tip, gp_Pnt(0, 0, 3));
+  const double top_in = 3.0 - (to_top - lean.axis * to_top.Dot(lean.axis)).Magnitude();
+  EXPECT_GT(top_in, 0.05);
+  EXPECT_NEAR(signed_tool_depth(wall, mid, lean, flat, inside, true), top_in, 1e-6);
+  EXPECT_EQ(tool_depth(wall, mid, lean, flat, inside), 0.0);
+  // The side face below a convex edge: x = 0 with its normal +x (material
+  // at x < 0), z in [-6, 0]; the disc over the edge 0.01 mm above it and
+  // reaching 2 mm beyond it. Every disc point is behind the face's plane
+  // (up to 4 mm) but none is in its material: the edge point nearest each
+  // is 0.01 mm below the tool.
+  const gp_Ax3 side_frame(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), gp_Dir(0, 1, 0));
+  const PatchGrid side =
+      PatchGrid::from_face(BRepBuilderAPI_MakeFace(gp_Pln(side_frame), -10, 10, -6, 0).Face(), 1);
+  const ToolPose over{gp_Pnt(-1.0, 0, 0.01), gp_Vec(0, 0, 1)};
+  EXPECT_NEAR(signed_tool_depth(side, ParamPt{0.0, -1.0}, over, flat, inside, true), -0.01, 1e-6);
+  // depth_inside: a point in the flat end 0.2 above the bottom and 0.5 in
+  // from the side; one beside a bull nose's corner (R 3, rc 1: the corner
+  // circle's centre at radius 2 and height 1), 1.2042 from it.
+  const ToolPose tip0{gp_Pnt(0, 0, 0), gp_Vec(0, 0, 1)};
+  EXPECT_NEAR(depth_inside(gp_Pnt(2.5, 0, 0.2), tip0, flat), 0.2, 1e-12);
+  EXPECT_NEAR(depth_inside(gp_Pnt(0, 2.9, 0.2), tip0, Cutter{3.0, 1.0}), 1.0 - std::hypot(0.9, 0.8),
+              1e-12);
+  EXPECT_NEAR(depth_inside(gp_Pnt(0, 0, -0.3), tip0, flat), -0.3, 1e-12);
+}
+
 TEST(FiveAxis, LagOnReturnKeepsTheTiltsSideAndC) {
   // The plane above: by default the axis leans along each pass's feed, so
   // C turns half a turn between the zig-zag's passes; with lag_on_return

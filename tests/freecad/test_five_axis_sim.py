@@ -4,7 +4,9 @@ where C turns by half a turn) and a B-spline saddle (concave across one way:
 the lead is raised there), the saddle also with Strategy NormalIsocurves;
 and a valley z = c x^4 whose sides steepen faster than the curvature at
 the contact tells, where the exact check raises the lead and the op traces
-the paths again with the strips narrowed there. As test_five_axis_finish.py's tilted plane: the
+the paths again with the strips narrowed there; and a floor beside a block,
+whose walls (not picked) the cutting end must not cut into. As
+test_five_axis_finish.py's tilted plane: the
 posted G-code read back by rs274 and swept by five_axis_check.py, which
 shares nothing with the core; material left and overcut within the op's
 GuaranteedScallop and GuaranteedOvercut. Its own file, small cases as
@@ -16,10 +18,12 @@ Run: tests/freecad/run_in_freecad.sh tests/freecad/test_five_axis_sim.py
 import unittest
 
 import FreeCAD
+import numpy as np
 import Part
 
 import fc_test_support as support
 import five_axis_check as check
+from freecad_ext import scripting
 from test_five_axis_finish import (
     SIM_OVER,
     Built,
@@ -27,6 +31,7 @@ from test_five_axis_finish import (
     cylinder_face,
     cylinder_patch,
     saddle,
+    sim_left,
 )
 
 
@@ -40,6 +45,14 @@ def quartic_valley(c=0.001, a=6.0):
             z = c * a**4 * (1 if (4 - i) % 2 == 0 else -1)
             surf.setPole(i + 1, j + 1, FreeCAD.Vector(-a + 2 * a * i / 4.0, 10.0 * j, z))
     return Part.Face(surf)
+
+
+def floor_and_block():
+    """A 30 x 30 mm floor (the top of a 6 mm slab, z = 0) with an 8 x 8 mm
+    block standing 10 mm high in its middle."""
+    base = Part.makeBox(30, 30, 6, FreeCAD.Vector(-15, -15, -6))
+    block = Part.makeBox(8, 8, 10, FreeCAD.Vector(-4, -4, 0))
+    return base.fuse(block).removeSplitter()
 
 
 class CurvedFacesTest(FiveAxisFinishTest):
@@ -122,6 +135,79 @@ class CurvedFacesTest(FiveAxisFinishTest):
         self.assertGreater(op.SwingsSplit, 0)
         self.assertLess(op.SwingsSplit, op.UnconvergedMoves)
         self.assertLessEqual(over.max(), op.GuaranteedOvercut.Value + SIM_OVER)
+
+    def test_floor_beside_a_block(self):
+        """The floor picked, the block's walls not: where the cutting end
+        comes near another face of the model (the walls; the slab's sides
+        below the floor's outer edge) it is checked against that face as
+        against the floor, its side too. Before, only the shank from R
+        above the tip was: at the walls' foot the disc's rim cut 0.133 mm
+        into them, a pass leaving the wall. Swept from outside, flat end and
+        bull nose: no sample of the walls is cut deeper than
+        GuaranteedOvercut, nor of the floor, and the floor is finished
+        within GuaranteedScallop beyond 7 mm (2 R + 1) from the block and
+        0.5 mm from its outer edge (a pass that leaves the block trails the
+        tilted disc behind its contact: it starts 2 R out; the places
+        nearer are reported in UnreachableLength)."""
+        for corner in (0.0, 1.0):
+            built = Built("Block%d" % int(corner), floor_and_block())
+            self.addCleanup(built.close)
+            faces = built.clone.Shape.Faces
+            floor = next(
+                i
+                for i, f in enumerate(faces)
+                if abs(f.CenterOfMass.z) < 1e-6 and f.normalAt(0, 0).z > 0.9
+            )
+            walls = [
+                f
+                for f in faces
+                if abs(f.normalAt(0, 0).z) < 1e-6
+                and max(abs(f.CenterOfMass.x), abs(f.CenterOfMass.y)) < 5
+            ]
+            self.assertEqual(len(walls), 4)
+            tc = None
+            if corner > 0:
+                tc = scripting.make_bull_nose_tool_controller(built.job, 6.0, corner)
+                built.doc.recompute()
+            op = built.op([floor + 1], tc=tc)
+            self.assertNotIn("Invalid", op.State, op.getStatusString())
+            _gcode, moves = self.post_and_read(built, op)
+            tips, axes = check.tool_instances(moves, step=0.04)
+            length = op.ToolLength.Value
+            wall_over = 0.0
+            for wall in walls:
+                # (the cutting end, R high, and the shank's first mm)
+                pts, nrm = check.sample_face(wall, 0.1, 0.0)
+                low = pts[:, 2] < 4.0
+                _, over = check.measure(pts[low], nrm[low], tips, axes, 3.0, length, corner=corner)
+                wall_over = max(wall_over, over.max())
+            pts, nrm = check.sample_face(faces[floor], 0.3, 0.0)
+            _, over = check.measure(pts, nrm, tips, axes, 3.0, length, corner=corner)
+            pts_l, nrm_l = check.sample_face(faces[floor], 0.2, 0.5)
+            away = np.max(np.abs(pts_l[:, :2]), axis=1) > 11.0
+            left, _ = check.measure(
+                pts_l[away], nrm_l[away], tips, axes, 3.0, length, corner=corner
+            )
+            print(
+                "Block, corner %.1f: walls overcut max %.5f, floor overcut max %.5f "
+                "(guaranteed %.5f); floor away from the block: %d samples, left max %.5f "
+                "(guaranteed %.5f); cutting %.1f mm, unreachable %.1f mm"
+                % (
+                    corner,
+                    wall_over,
+                    over.max(),
+                    op.GuaranteedOvercut.Value,
+                    len(left),
+                    left.max(),
+                    op.GuaranteedScallop.Value,
+                    op.CuttingLength.Value,
+                    op.UnreachableLength.Value,
+                )
+            )
+            self.assertLessEqual(wall_over, op.GuaranteedOvercut.Value + SIM_OVER)
+            self.assertLessEqual(over.max(), op.GuaranteedOvercut.Value + SIM_OVER)
+            self.assertLessEqual(left.max(), op.GuaranteedScallop.Value + sim_left(op))
+            self.assertGreater(op.UnreachableLength.Value, 0.0)
 
 
 del FiveAxisFinishTest  # not collected twice

@@ -12,9 +12,11 @@
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -109,6 +111,9 @@ struct Job {
   double flat_width = 0;                              // strip width on flat ground at the lead
   const ClearanceModel* model = nullptr;
   double shank_clear = 0;  // the query distance of the shank capsule
+  // The model's faces by their grids (to check the cutting end against a
+  // face a clearance query finds near it).
+  std::unordered_map<const PatchGrid*, const Face*> faces{};
 
   double lead_at(double kf, double ka) const { return lead_for(lead, max_lead, tool, kf, ka); }
   // The edge at a frame with the lead the job uses there, or `raised` if
@@ -125,6 +130,14 @@ struct Job {
     return model->clear(tip.Translated(axis * p.tool_radius), tip.Translated(axis * p.tool_length),
                         shank_clear);
   }
+  // The cutting end below the shank capsule (the cylinder of radius R from
+  // the tip up to R) lies within the ball of radius sqrt(5) / 2 R about
+  // its middle: the faces a clearance query finds within it are the ones
+  // to check it against.
+  gp_Pnt end_centre(const ToolPose& x) const {
+    return x.tip.Translated(x.axis * (0.5 * p.tool_radius));
+  }
+  double end_ball() const { return model->query_distance(0.5 * std::sqrt(5.0) * p.tool_radius); }
 };
 
 // The largest lead posed near a point: the positions whose lead the exact
@@ -429,6 +442,7 @@ struct PoseOut {
   std::vector<std::vector<Posed>> runs;
   double unreachable = 0, max_lead = 0;
   int raised = 0, gouge_left = 0, shank_left = 0, range_left = 0;
+  int others_left = 0;   // positions where the cutting end meets another face
   int unconverged = 0;   // refinements that reached their depth limit
   int swings_split = 0;  // ... whose swing failed its check
 
@@ -441,6 +455,7 @@ struct PoseOut {
     gouge_left += o.gouge_left;
     shank_left += o.shank_left;
     range_left += o.range_left;
+    others_left += o.others_left;
     unconverged += o.unconverged;
     swings_split += o.swings_split;
   }
@@ -457,8 +472,11 @@ void RaisedLeads::add(const PatchGrid& g, const std::vector<std::vector<Posed>>&
 
 class Poser {
  public:
-  Poser(const PatchGrid& g, const TrimDomain& trim, bool transposed, const Job& job)
-      : g_(g), trim_(trim), transposed_(transposed), job_(job) {}
+  // g: the face's grid as traced (transposed or not); own: the face's
+  // grid in the model (the face the tool cuts).
+  Poser(const PatchGrid& g, const TrimDomain& trim, bool transposed, const PatchGrid& own,
+        const Job& job)
+      : g_(g), trim_(trim), transposed_(transposed), own_(&own), job_(job) {}
 
   // The run posed and checked into out. A run the zig-zag runs back is
   // posed along its own direction, or with lag_on_return along the traced
@@ -518,6 +536,9 @@ class Poser {
                       cur.back().pose.tip.Translated(cur.back().pose.axis * job_.p.tool_radius),
                       x.pose.tip.Translated(x.pose.axis * job_.p.tool_radius), job_.shank_clear))) {
         ++out->shank_left;
+        ok = false;
+      } else if (!others_clear(cur.empty() ? nullptr : &cur.back().pose, x.pose)) {
+        ++out->others_left;
         ok = false;
       } else if (!a_reachable(x.pose.axis)) {
         ++out->range_left;
@@ -625,9 +646,71 @@ class Poser {
     return true;
   }
 
+  // The cutting end against the model's other faces (its own face is the
+  // exact check's): at the pose x and, from `prev` (if given), along the
+  // move to it. A clearance query finds a face near the cutting end (within
+  // its ball, end_ball(); along a move, the ball's sweep); that face gets
+  // the exact check (its side sampled too), from the point found, and is
+  // left out of the next query, until one is clear. Along a move: see
+  // sweep_clear(). False where one digs in deeper than the gouge tolerance,
+  // and where the query cannot show which face is near (kMaxOthers).
+  bool others_clear(const ToolPose* prev, const ToolPose& x) const {
+    constexpr int kMaxOthers = 8;
+    std::array<const PatchGrid*, kMaxOthers> skip{own_};
+    int n = 1;
+    const gp_Pnt c1 = job_.end_centre(x), c0 = prev ? job_.end_centre(*prev) : c1;
+    // The axis turning between the two poses takes the ball's centre off
+    // the chord by at most R / 2 (1 - cos(turn / 2)).
+    const double turn = prev ? prev->axis.Angle(x.axis) : 0.0;
+    const double d = job_.end_ball() + 0.5 * job_.p.tool_radius * (1 - std::cos(0.5 * turn));
+    const double tol = job_.p.gouge_tolerance;
+    for (;;) {
+      ClearanceModel::Witness w;
+      if (job_.model->clear_except(c0, c1, d, skip.data(), n, &w)) return true;
+      if (!w.grid || n == kMaxOthers) return false;
+      const auto f = job_.faces.find(w.grid);
+      if (f == job_.faces.end()) return false;
+      const ParamPt uv{w.u, w.v};
+      const double dx = other_depth(*f->second, uv, x);
+      if (dx > tol) return false;
+      if (prev) {
+        const double dp = other_depth(*f->second, uv, *prev);
+        if (dp > tol || !sweep_clear(*f->second, uv, *prev, dp, x, dx, 0)) return false;
+      }
+      skip[static_cast<std::size_t>(n++)] = w.grid;
+    }
+  }
+  // The signed depth of the cutting end (disc and side) in another face,
+  // the exact check's Newton from uv on it.
+  double other_depth(const Face& f, const ParamPt& uv, const ToolPose& x) const {
+    return signed_tool_depth(
+        f.grid, uv, x, job_.tool, [&f](const ParamPt& q) { return f.trim->contains(q.u, q.v); },
+        true);
+  }
+  // The move from a to b (signed depths da, db in f) keeps the cutting end
+  // within the gouge tolerance of f: no point of the tool moves more than
+  // m = |tip step| + sqrt(2) R x (axis turn) between them, so the depth is
+  // 1-Lipschitz in that measure and at most (da + db + m) / 2 between the
+  // two; where that is over the tolerance the move is halved at its middle
+  // pose (checked as a position) until it is not, or until m <= R / 20: a
+  // tool that touches f along the move (the disc over a convex edge, level
+  // with the side face below it) is checked at poses that far apart.
+  bool sweep_clear(const Face& f, const ParamPt& uv, const ToolPose& a, double da,
+                   const ToolPose& b, double db, int level) const {
+    const double tol = job_.p.gouge_tolerance, r = job_.p.tool_radius;
+    const double m = a.tip.Distance(b.tip) + std::sqrt(2.0) * r * a.axis.Angle(b.axis);
+    if (0.5 * (da + db + m) <= tol || m <= 0.05 * r) return true;
+    if (level >= 2 * kMaxHalvings) return false;
+    const ToolPose mid{gp_Pnt((a.tip.XYZ() + b.tip.XYZ()) * 0.5), ac_lerp(a.axis, b.axis, 0.5)};
+    const double dm = other_depth(f, uv, mid);
+    return dm <= tol && sweep_clear(f, uv, a, da, mid, dm, level + 1) &&
+           sweep_clear(f, uv, mid, dm, b, db, level + 1);
+  }
+
   const PatchGrid& g_;
   const TrimDomain& trim_;
   bool transposed_;
+  const PatchGrid* own_;
   const Job& job_;
 };
 
@@ -748,7 +831,7 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     }
   }
   const PatchGrid& g = *best_grid;
-  const Poser poser(g, *face.trim, best_transposed, job);
+  const Poser poser(g, *face.trim, best_transposed, face.grid, job);
   // Where the exact check raised leads above what the curvature asks for,
   // the strips there are narrower than spaced for: the certificate is
   // measured again with the leads posed, and if it exceeds h' the paths
@@ -862,6 +945,7 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
   }
   model.build();
   job.model = &model;
+  for (const std::unique_ptr<Face>& f : model_faces) job.faces.emplace(&f->grid, f.get());
   job.shank_clear = model.query_distance(p.tool_radius - 2 * p.gouge_tolerance);
 
   const ProgressSlice all_progress(progress);
@@ -920,11 +1004,12 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
                                 " deg) at " + std::to_string(posed.raised) +
                                 " positions to keep the bottom off concave ground (rear gouge); "
                                 "the strips there are narrower");
-    if (posed.gouge_left + posed.shank_left + posed.range_left > 0)
+    if (posed.gouge_left + posed.shank_left + posed.others_left + posed.range_left > 0)
       result.warnings.push_back(
           face_label(face.index) + ": positions left out: " + std::to_string(posed.gouge_left) +
           " where the cutting end would gouge even at " + num(p.max_lead_angle) + " deg lead, " +
           std::to_string(posed.shank_left) + " where the shank meets the model, " +
+          std::to_string(posed.others_left) + " where the cutting end meets another face, " +
           std::to_string(posed.range_left) + " where A would leave [" + num(p.a_min) + ", " +
           num(p.a_max) + "] deg");
     for (auto& r : run.posed.runs) runs.push_back(std::move(r));

@@ -289,6 +289,15 @@ double depth_below(const PatchGrid& g, const ParamPt& e, const ToolPose& pose, c
   return -entry;
 }
 
+double depth_inside(const gp_Pnt& e, const ToolPose& pose, const Cutter& tool) {
+  const gp_Vec d(pose.tip, e);
+  const double z = d.Dot(pose.axis);
+  const double r = (d - pose.axis * z).Magnitude();
+  if (tool.corner > 0 && z < tool.corner && r > tool.core())
+    return tool.corner - std::hypot(r - tool.core(), z - tool.corner);
+  return std::min(z, tool.radius - r);
+}
+
 ParamPt predicted_foot(const PatchGrid& g, const ParamPt& foot, const SurfaceDerivs& d,
                        const gp_Vec& step) {
   double du, dv;

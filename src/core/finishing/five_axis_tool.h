@@ -125,6 +125,27 @@ template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside);
 
+// tool_depth() signed: the deepest sample's depth, negative where every
+// sample stays above the surface (how far the nearest is), -inf where none
+// counts (uv outside the face and each sample over its edge). With `other`
+// the face is another than the one the tool cuts (a wall beside it, a
+// neighbour under the overhanging disc): the cylinder's side is sampled as
+// well (24 points at each of the heights max(rc, R / 2) and R), a sample
+// counts its depth below the face only where its foot lies in the tool
+// (else how far that foot is outside: behind a face's plane is not in its
+// material far from the face, a side face below a convex edge), and a
+// sample over the face's edge counts how deep the edge point nearest it
+// lies inside the tool (depth_inside: a corner of the face poking into the
+// tool), not the tool's depth below it (which assumes the material under
+// the edge is the face's, true only of the face the tool cuts).
+template <class Inside>
+double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose,
+                         const Cutter& tool, const Inside& inside, bool other);
+
+// How deep the point e lies inside the tool of the pose (the distance to
+// its surface; negative outside, then at most the distance in magnitude).
+double depth_inside(const gp_Pnt& e, const ToolPose& pose, const Cutter& tool);
+
 // How far the tool of the pose reaches below the surface point at e along
 // its normal (negative: how far above it; -inf where the line misses the
 // tool): the line through it met exactly with the cylinder of radius R
@@ -203,15 +224,24 @@ ParamPt bisect_to_edge(const PatchGrid& g, ParamPt in, ParamPt out, gp_Pnt p_out
 template <class Inside>
 double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, const Cutter& tool,
                   const Inside& inside) {
+  return std::max(0.0, signed_tool_depth(g, uv, pose, tool, inside, false));
+}
+
+template <class Inside>
+double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose,
+                         const Cutter& tool, const Inside& inside, bool other) {
   gp_Vec e1 = pose.axis.Crossed(gp_Vec(0, 0, 1));
   if (e1.Magnitude() < 1e-6) e1 = pose.axis.Crossed(gp_Vec(1, 0, 0));
   e1.Normalize();
   const gp_Vec e2 = pose.axis.Crossed(e1);
-  auto point = [&](double th, double r) {
-    return pose.tip.Translated(pose.axis * tool.corner +
-                               (e1 * std::cos(th) + e2 * std::sin(th)) * (tool.core() * r));
+  // A sample of the tool: on the core disc at the fraction r of its
+  // radius, or (height > 0) on the side at that height above the tip.
+  auto point = [&](double th, double r, double height = 0.0) {
+    const gp_Vec out = e1 * std::cos(th) + e2 * std::sin(th);
+    return height > 0.0 ? pose.tip.Translated(pose.axis * height + out * tool.radius)
+                        : pose.tip.Translated(pose.axis * tool.corner + out * (tool.core() * r));
   };
-  // The signed depth at the core disc's point x, its Newton from `start`:
+  // The signed depth at the tool's point x, its Newton from `start`:
   // against its foot if that is on the face (*over false), else the
   // tool's below the face's edge point nearest it (*over true).
   // The bisection for the edge point ends where the two ends are within
@@ -219,25 +249,42 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
   // and one inside(), which near the edge is the face classifier's work).
   constexpr double kEdgeTol = 1e-5;
   const bool uv_inside = inside(uv);
-  auto probe = [&](const gp_Pnt& x, const ParamPt& start, ParamPt* foot, SurfaceDerivs* d, bool* on,
-                   bool* over) {
+  // `offset`: what the sample digs in at height 0 (rc on the core disc,
+  // whose points stand for the corner around them; 0 on the side).
+  auto probe = [&](const gp_Pnt& x, double offset, const ParamPt& start, ParamPt* foot,
+                   SurfaceDerivs* d, bool* on, bool* over) {
     *on = nearest_on(g, x, start, foot, d);
     const bool foot_inside = inside(*foot);
     *over = !*on || !foot_inside;
-    if (!*over) return tool.corner - gp_Vec(d->p, x).Dot(g.normal(foot->u, foot->v, d));
+    if (!*over) {
+      const double below = offset - gp_Vec(d->p, x).Dot(g.normal(foot->u, foot->v, d));
+      if (!other) return below;
+      // Another face: behind it counts only where its point lies in the
+      // tool (behind a face's plane is not in its material far from it).
+      const double in = depth_inside(d->p, pose, tool);
+      return in >= -1e-9 ? std::max(below, in) : in;
+    }
     if (!uv_inside) return -std::numeric_limits<double>::infinity();
     const ParamPt e = foot_inside ? *foot : bisect_to_edge(g, uv, *foot, d->p, inside, kEdgeTol);
-    return depth_below(g, e, pose, tool);
+    return other ? depth_inside(g.eval(e.u, e.v), pose, tool) : depth_below(g, e, pose, tool);
   };
-  double depth = 0.0;
+  double depth = -std::numeric_limits<double>::infinity();
   // The rim's deepest sample over the edge (its angle and Newton start).
   double edge_best = -std::numeric_limits<double>::infinity(), edge_th = 0.0;
   ParamPt edge_start = uv;
-  const struct {
+  struct Ring {
     double r;
     int n;
-  } rings[] = {{1.0, 48}, {0.66, 24}, {0.33, 12}};
-  for (const auto& ring : rings) {
+    double height;  // > 0: on the side
+  };
+  // The core disc's rim and two inner rings, then the side's two rings.
+  const Ring rings[] = {{1.0, 48, 0.0},
+                        {0.66, 24, 0.0},
+                        {0.33, 12, 0.0},
+                        {1.0, 24, std::max(tool.corner, 0.5 * tool.radius)},
+                        {1.0, 24, tool.radius}};
+  for (const Ring& ring : rings) {
+    if (ring.height > 0.0 && !other) break;
     // Each sample's Newton starts where its neighbour's foot on the ring
     // predicts it (that foot moved by the tangential part of the step
     // between the two samples: a first Newton step for free), the first
@@ -248,19 +295,20 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
     SurfaceDerivs prev_d;
     for (int q = 0; q < ring.n; ++q) {
       const double th = 2 * M_PI * q / ring.n;
-      const gp_Pnt x = point(th, ring.r);
+      const gp_Pnt x = point(th, ring.r, ring.height);
       const ParamPt start =
           have_prev ? predicted_foot(g, prev_foot, prev_d, gp_Vec(prev_x, x)) : uv;
       ParamPt foot;
       SurfaceDerivs d;
       bool on, over;
-      const double s = probe(x, start, &foot, &d, &on, &over);
+      const double s =
+          probe(x, ring.height > 0.0 ? 0.0 : tool.corner, start, &foot, &d, &on, &over);
       have_prev = on;
       prev_x = x;
       prev_foot = foot;
       prev_d = d;
       depth = std::max(depth, s);
-      if (over && ring.r == 1.0 && s > edge_best) {
+      if (over && &ring == rings && s > edge_best) {
         edge_best = s;
         edge_th = th;
         edge_start = start;
@@ -277,7 +325,7 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
       ParamPt foot;
       SurfaceDerivs d;
       bool on, over;
-      return probe(point(th, 1.0), edge_start, &foot, &d, &on, &over);
+      return probe(point(th, 1.0), tool.corner, edge_start, &foot, &d, &on, &over);
     };
     depth = std::max(depth, golden_max(f, edge_th - span, edge_th + span, 24));
   }

@@ -320,6 +320,12 @@ bool ClearanceModel::clear(const gp_Pnt& a, const gp_Pnt& b, double d, Witness* 
   return blocked(&seg, 1, d, witness) == 0;
 }
 
+bool ClearanceModel::clear_except(const gp_Pnt& a, const gp_Pnt& b, double d,
+                                  const PatchGrid* const* skip, int n, Witness* witness) const {
+  const Segment seg(a, b);
+  return blocked(&seg, 1, d, witness, Skip{skip, n}) == 0;
+}
+
 void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, char* out) const {
   std::array<Segment, kBatch> segs;
   for (std::size_t first = 0; first + 1 < n; first += kBatch) {
@@ -362,8 +368,8 @@ void ClearanceModel::clear_above(const gp_Pnt* pts, std::size_t n, double d, cha
   }
 }
 
-std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
-                                      Witness* witness) const {
+std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d, Witness* witness,
+                                      const Skip& skip) const {
   if (nodes_.empty() || count == 0) return 0;
   const std::uint32_t all = count == kBatch ? ~0u : (1u << count) - 1u;
   const double keep = d - eps_;  // what a box must be beyond to be passed
@@ -408,6 +414,7 @@ std::uint32_t ClearanceModel::blocked(const Segment* segs, int count, double d,
     }
     for (int k = n.patch_lo; k < n.patch_hi; ++k) {
       const Patch& p = patches_[static_cast<std::size_t>(order_[static_cast<std::size_t>(k)])];
+      if (skip.n > 0 && skip.has(p.grid)) continue;
       std::uint32_t m = near(mask & ~hit, p.box.lo, p.box.hi);
       for (std::uint32_t b = m; b; b &= b - 1) {
         const Segment& s = segs[lowest_bit(b)];

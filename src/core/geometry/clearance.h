@@ -18,6 +18,7 @@
 //    other).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <gp_Pnt.hxx>
 #include <gp_XYZ.hxx>
@@ -58,6 +59,10 @@ class ClearanceModel {
   bool clear(const gp_Pnt& c, double d, Witness* witness = nullptr) const {
     return clear(c, c, d, witness);
   }
+  // clear() with the faces of the n grids `skip` left out: for a tool that
+  // touches those faces by design, which another check measures.
+  bool clear_except(const gp_Pnt& a, const gp_Pnt& b, double d, const PatchGrid* const* skip, int n,
+                    Witness* witness = nullptr) const;
 
   // clear() of each segment [pts[k], pts[k + 1]] of a polyline of n points,
   // into out[k] (k < n - 1), with the same guarantee. Runs of consecutive
@@ -123,8 +128,15 @@ class ClearanceModel {
   // Up to 32 segments at once (bit k for segs[k]; `mask` the ones asked
   // about; kBatch in clearance.cpp): the ones some surface point comes
   // closer than d to. With one segment, `witness` receives the point found.
+  // `skip`: grids whose patches are left out (count n).
   struct Segment;
-  std::uint32_t blocked(const Segment* segs, int count, double d, Witness* witness) const;
+  struct Skip {
+    const PatchGrid* const* grids;
+    int n;
+    bool has(const PatchGrid* g) const { return std::find(grids, grids + n, g) != grids + n; }
+  };
+  std::uint32_t blocked(const Segment* segs, int count, double d, Witness* witness,
+                        const Skip& skip = Skip{nullptr, 0}) const;
   std::uint32_t patch_blocked(const Patch& p, const Segment* segs, std::uint32_t mask, double d,
                               Witness* witness) const;
   struct PatchQuery;  // patch_blocked()'s state and phases (clearance.cpp)

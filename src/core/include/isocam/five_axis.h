@@ -68,8 +68,25 @@
 // model, else the picked faces): the capsule of radius R - gouge_tolerance
 // around the axis from R to tool_length above the tip must be clear of
 // every face (trimmed to its wires) at each posted position and along each
-// move; what fails is cut away and reported as unreachable. The disc check
-// above covers the part of the tool below R.
+// move; what fails is cut away and reported as unreachable.
+//
+// No gouge of the cutting end in the model's other faces (a wall beside
+// the picked face, a neighbour under the disc where it overhangs the
+// face's edge; with protect_unpicked_faces the unpicked faces too): the
+// cutting end below R lies within the ball of radius R sqrt(5) / 2 about
+// its middle; a clearance query of that ball (along a move, its sweep)
+// against the model without the face cut finds the faces near it, and
+// each gets the exact check above from the point found, the side of the
+// cylinder sampled too (24 points at R / 2 and at R), counting a point
+// behind the face only where the face's point nearest it lies in the tool
+// (behind a face's plane is not in its material far from the face), and
+// over the face's edge how deep the edge point lies in the tool. Along a
+// move the depth is 1-Lipschitz in m = the tip's travel + sqrt(2) R x the
+// axis turn, so at most (d_a + d_b + m) / 2 between poses of depths d_a,
+// d_b; a move where that exceeds the gouge tolerance is halved (its middle
+// pose checked) until it does not or m <= R / 20. A position where a face
+// is deeper than the gouge tolerance is left out ("where the cutting end
+// meets another face" in the warnings) and reported as unreachable.
 //
 // Rotary axes. A table-tilting A/C machine with tool-centre-point control:
 // the tool axis relative to the part is
