@@ -141,7 +141,7 @@ class CurvedFacesTest(FiveAxisFinishTest):
         comes near another face of the model (the walls; the slab's sides
         below the floor's outer edge) it is checked against that face as
         against the floor, its side too. Before, only the shank from R
-        above the tip was: at the walls' foot the disc's rim cut 0.133 mm
+        above the tip was: at the walls' foot the disc's rim cut 0.131 mm
         into them, a pass leaving the wall. Swept from outside, flat end and
         bull nose: no sample of the walls is cut deeper than
         GuaranteedOvercut, nor of the floor, and the floor is finished
