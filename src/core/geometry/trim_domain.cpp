@@ -43,6 +43,29 @@ TrimDomain::RectClass rect_class(TopAbs_State st) {
          : st == TopAbs_OUT ? TrimDomain::RectClass::Outside
                             : TrimDomain::RectClass::Boundary;
 }
+// The largest distance from an edge's end to the nearest unused edge start
+// (each start used once), or -1 if the counts differ: 0 for loops that
+// close exactly.
+double loop_gap(const std::vector<std::array<double, 4>>& ends) {
+  std::vector<bool> used(ends.size(), false);
+  double gap = 0;
+  for (const auto& e : ends) {
+    double best = 1e300;
+    std::size_t at = ends.size();
+    for (std::size_t k = 0; k < ends.size(); ++k) {
+      if (used[k]) continue;
+      const double d = std::hypot(ends[k][0] - e[2], ends[k][1] - e[3]);
+      if (d < best) {
+        best = d;
+        at = k;
+      }
+    }
+    if (at == ends.size()) return -1.0;
+    used[at] = true;
+    gap = std::max(gap, best);
+  }
+  return gap;
+}
 }  // namespace
 
 // The domain is read from the face oriented FORWARD: exploring a REVERSED
@@ -53,6 +76,7 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
       surface_(BRep_Tool::Surface(face)),
       grid_(&grid),
       label_(face_label) {
+  std::vector<std::array<double, 4>> edge_ends;  // oriented start (x, y), end (x, y)
   idle_classifiers_.push_back(std::make_unique<BRepTopAdaptor_FClass2d>(face_, 1e-9));
   BRepTools::UVBounds(face_, fmin_[0], fmax_[0], fmin_[1], fmax_[1]);
   const double range = std::max(fmax_[0] - fmin_[0], fmax_[1] - fmin_[1]);
@@ -68,7 +92,31 @@ TrimDomain::TrimDomain(const TopoDS_Face& face, const PatchGrid& grid, int face_
     hatcher_->AddElement(Geom2dAdaptor_Curve(new Geom2d_TrimmedCurve(pc, f, l)),
                          edge.Orientation());
     add_boundary_boxes(*pc, f, l, range);
-    if (!add_spans(pc, f, l)) spans_exact_ = false;
+    // An internal or external edge is no part of a loop around the face.
+    const int sign = edge.Orientation() == TopAbs_FORWARD    ? 1
+                     : edge.Orientation() == TopAbs_REVERSED ? -1
+                                                             : 0;
+    if (!add_spans(pc, f, l, sign)) spans_exact_ = false;
+    if (sign != 0) {
+      gp_Pnt2d a = pc->Value(f), b = pc->Value(l);
+      if (sign < 0) std::swap(a, b);
+      edge_ends.push_back({a.X(), a.Y(), b.X(), b.Y()});
+    }
+  }
+  // The winding number needs closed loops: each edge's end meets another's
+  // start. The largest gap (and rounding between a B-spline's Bezier arcs)
+  // bounds where a ray could slip between two.
+  const double gap = spans_exact_ ? loop_gap(edge_ends) : -1.0;
+  winding_ok_ = gap >= 0 && gap <= 1e-3 * range;
+  join_gap_ = 2.0 * std::max(gap, 1e-9 * range);
+  on_tol_ = 1e-9 * range;
+  if (winding_ok_) {
+    for (const Span2& sp : spans_) {
+      const double* c = &span_cps_[sp.first];
+      const int n = sp.degree;
+      joins_.push_back({c[0] / c[2], c[1] / c[2]});
+      joins_.push_back({c[3 * n] / c[3 * n + 2], c[3 * n + 1] / c[3 * n + 2]});
+    }
   }
   quad_.push_back({{fmin_[0] - 1e-9 * range, fmin_[1] - 1e-9 * range},
                    {fmax_[0] + 1e-9 * range, fmax_[1] + 1e-9 * range},
@@ -143,7 +191,7 @@ void TrimDomain::add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, 
   }
 }
 
-bool TrimDomain::add_spans(const Handle(Geom2d_Curve) & pc, double f, double l) {
+bool TrimDomain::add_spans(const Handle(Geom2d_Curve) & pc, double f, double l, int sign) {
   Handle(Geom2d_Curve) basis = pc;
   if (auto t = Handle(Geom2d_TrimmedCurve)::DownCast(basis)) basis = t->BasisCurve();
   // Lines, conics, Bezier and B-spline curves have an exact (rational)
@@ -166,6 +214,7 @@ bool TrimDomain::add_spans(const Handle(Geom2d_Curve) & pc, double f, double l) 
     Span2 span;
     span.first = span_cps_.size();
     span.degree = arc->Degree();
+    span.sign = sign;
     span.box = {{1e300, 1e300}, {-1e300, -1e300}};
     for (int k = 1; k <= arc->NbPoles(); ++k) {
       const gp_Pnt2d p = arc->Pole(k);
@@ -184,27 +233,25 @@ bool TrimDomain::add_spans(const Handle(Geom2d_Curve) & pc, double f, double l) 
 
 namespace {
 
-// Does the rational Bezier span (homogeneous control points, 3 each, degree
-// n) miss the closed rectangle [lo, hi]? Its curve lies in the hull of its
-// projected control points (the weights are positive) and passes through
-// the end ones: a hull box that misses proves a miss, an end point inside
-// proves a meet; otherwise the span is split at its middle. `budget` bounds
-// the boxes tested; when it runs out the answer is "meets" (not proved).
-bool span_misses(const double* c, int n, const double lo[2], const double hi[2], int depth,
-                 int* budget) {
-  if (--*budget < 0) return false;
-  double blo[2] = {1e300, 1e300}, bhi[2] = {-1e300, -1e300};
+// The box of the span's projected control points (homogeneous, 3 each,
+// degree n), which holds its curve: the weights are positive.
+void hull_box(const double* c, int n, double lo[2], double hi[2]) {
+  lo[0] = lo[1] = 1e300;
+  hi[0] = hi[1] = -1e300;
   for (int k = 0; k <= n; ++k) {
     const double x = c[3 * k] / c[3 * k + 2], y = c[3 * k + 1] / c[3 * k + 2];
-    blo[0] = std::min(blo[0], x);
-    blo[1] = std::min(blo[1], y);
-    bhi[0] = std::max(bhi[0], x);
-    bhi[1] = std::max(bhi[1], y);
-    if ((k == 0 || k == n) && x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1]) return false;
+    lo[0] = std::min(lo[0], x);
+    lo[1] = std::min(lo[1], y);
+    hi[0] = std::max(hi[0], x);
+    hi[1] = std::max(hi[1], y);
   }
-  if (blo[0] > hi[0] || bhi[0] < lo[0] || blo[1] > hi[1] || bhi[1] < lo[1]) return true;
-  if (depth >= 40) return false;
-  double l[3 * (kMaxSpanDegree + 1)], r[3 * (kMaxSpanDegree + 1)], w[3 * (kMaxSpanDegree + 1)];
+}
+
+// The halves [0, 1/2] and [1/2, 1] of the span (homogeneous control
+// points, 3 each, degree n) by de Casteljau's construction; the two share
+// their middle point to the bit.
+void split_half(const double* c, int n, double* l, double* r) {
+  double w[3 * (kMaxSpanDegree + 1)];
   std::copy(c, c + 3 * (n + 1), w);
   for (int j = 0; j < 3; ++j) {
     l[j] = w[j];
@@ -218,21 +265,146 @@ bool span_misses(const double* c, int n, const double lo[2], const double hi[2],
       r[3 * (n - s) + j] = w[3 * (n - s) + j];
     }
   }
-  return span_misses(l, n, lo, hi, depth + 1, budget) &&
-         span_misses(r, n, lo, hi, depth + 1, budget);
+}
+
+// Where the rational Bezier span (homogeneous control points, 3 each,
+// degree n) lies against the closed rectangle [lo, hi]: 1 it misses it, 0
+// it meets it, -1 not decided. Its curve lies in the hull of its projected
+// control points (the weights are positive) and passes through the end
+// ones: a hull box that misses proves a miss, an end point inside proves a
+// meet; otherwise the span is split at its middle. `budget` bounds the boxes
+// tested; when it runs out, or after 40 halvings, the answer is -1.
+int span_meets(const double* c, int n, const double lo[2], const double hi[2], int depth,
+               int* budget) {
+  if (--*budget < 0) return -1;
+  for (int k : {0, n}) {
+    const double x = c[3 * k] / c[3 * k + 2], y = c[3 * k + 1] / c[3 * k + 2];
+    if (x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1]) return 0;
+  }
+  double blo[2], bhi[2];
+  hull_box(c, n, blo, bhi);
+  if (blo[0] > hi[0] || bhi[0] < lo[0] || blo[1] > hi[1] || bhi[1] < lo[1]) return 1;
+  if (depth >= 40) return -1;
+  double l[3 * (kMaxSpanDegree + 1)], r[3 * (kMaxSpanDegree + 1)];
+  split_half(c, n, l, r);
+  const int a = span_meets(l, n, lo, hi, depth + 1, budget);
+  if (a == 0) return 0;
+  const int b = span_meets(r, n, lo, hi, depth + 1, budget);
+  return b == 0 ? 0 : std::min(a, b);
+}
+
+// The point (x, y) turned by `quarter` quarter turns clockwise: the ray
+// towards +x of the turned plane is the ray towards +x, -y, -x, +y of the
+// face's. A turn keeps winding numbers.
+inline void turn(int quarter, double x, double y, double* tx, double* ty) {
+  switch (quarter) {
+    case 0:
+      *tx = x, *ty = y;
+      break;
+    case 1:
+      *tx = -y, *ty = x;
+      break;
+    case 2:
+      *tx = -x, *ty = -y;
+      break;
+    default:
+      *tx = y, *ty = -x;
+      break;
+  }
+}
+
+// The signed crossings of the ray from (px, py) towards +x of the plane
+// turned by `quarter` (the point given turned) by the rational Bezier span
+// (homogeneous control points, degree n): a crossing upwards +1, downwards
+// -1, "up" meaning y > py (so a crossing is a change of that side, counted
+// once where the curve touches the line). A span whose hull box lies right
+// of the point crosses it as its end points' sides change; one left of it,
+// above or below it, never; one whose box holds the point is halved. False
+// (undecided) if the box still holds it after 48 halvings or when `budget`
+// runs out.
+bool span_crossings(const double* c, int n, int quarter, double px, double py, int depth,
+                    int* budget, int* count) {
+  if (--*budget < 0) return false;
+  double blo[2] = {1e300, 1e300}, bhi[2] = {-1e300, -1e300}, ends[2] = {0, 0};
+  for (int k = 0; k <= n; ++k) {
+    double x, y;
+    turn(quarter, c[3 * k] / c[3 * k + 2], c[3 * k + 1] / c[3 * k + 2], &x, &y);
+    blo[0] = std::min(blo[0], x);
+    blo[1] = std::min(blo[1], y);
+    bhi[0] = std::max(bhi[0], x);
+    bhi[1] = std::max(bhi[1], y);
+    if (k == 0) ends[0] = y;
+    if (k == n) ends[1] = y;
+  }
+  if (blo[1] > py || bhi[1] <= py || bhi[0] < px) return true;
+  if (blo[0] > px) {
+    *count += static_cast<int>(ends[1] > py) - static_cast<int>(ends[0] > py);
+    return true;
+  }
+  if (depth >= 48) return false;
+  double l[3 * (kMaxSpanDegree + 1)], r[3 * (kMaxSpanDegree + 1)];
+  split_half(c, n, l, r);
+  return span_crossings(l, n, quarter, px, py, depth + 1, budget, count) &&
+         span_crossings(r, n, quarter, px, py, depth + 1, budget, count);
 }
 
 }  // namespace
 
-bool TrimDomain::curves_miss(const double lo[2], const double hi[2]) const {
-  if (!spans_exact_) return false;
-  int budget = 4000;
+int TrimDomain::curves_meet(const double lo[2], const double hi[2]) const {
+  if (!spans_exact_) return -1;
+  int budget = 4000, answer = 1;
   for (const Span2& s : spans_) {
     if (s.box.lo[0] > hi[0] || s.box.hi[0] < lo[0] || s.box.lo[1] > hi[1] || s.box.hi[1] < lo[1])
       continue;
-    if (!span_misses(&span_cps_[s.first], s.degree, lo, hi, 0, &budget)) return false;
+    const int m = span_meets(&span_cps_[s.first], s.degree, lo, hi, 0, &budget);
+    if (m == 0) return 0;
+    answer = std::min(answer, m);
   }
-  return true;
+  return answer;
+}
+
+int TrimDomain::winding_class(double fu, double fv) const {
+  // On a p-curve to within the classifier's tolerance: on the boundary.
+  const double lo[2] = {fu - on_tol_, fv - on_tol_}, hi[2] = {fu + on_tol_, fv + on_tol_};
+  const int meets = curves_meet(lo, hi);
+  if (meets == 0) return 2;
+  if (meets < 0) return -1;
+  // A ray through a join's gap could miss the crossing there: the first of
+  // the four axis rays that passes no join closer than the gap.
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    double px, py;
+    turn(quarter, fu, fv, &px, &py);
+    bool clear = true;
+    for (const auto& j : joins_) {
+      double jx, jy;
+      turn(quarter, j[0], j[1], &jx, &jy);
+      if (std::abs(jy - py) <= join_gap_ && jx + join_gap_ >= px) {
+        clear = false;
+        break;
+      }
+    }
+    if (!clear) continue;
+    int budget = 4000, total = 0;
+    for (const Span2& s : spans_) {
+      if (s.sign == 0) continue;
+      double ax, ay, bx, by;  // the box's corners turned
+      turn(quarter, s.box.lo[0], s.box.lo[1], &ax, &ay);
+      turn(quarter, s.box.hi[0], s.box.hi[1], &bx, &by);
+      if (std::min(ay, by) > py || std::max(ay, by) <= py || std::max(ax, bx) < px) continue;
+      int count = 0;
+      if (!span_crossings(&span_cps_[s.first], s.degree, quarter, px, py, 0, &budget, &count))
+        return -1;
+      total += s.sign * count;
+    }
+    return total == 0 || total == 1 ? total : -1;
+  }
+  return -1;
+}
+
+TopAbs_State TrimDomain::point_state(double fu, double fv) const {
+  const int w = winding_ok_ ? winding_class(fu, fv) : -1;
+  if (w >= 0) return w == 1 ? TopAbs_IN : w == 0 ? TopAbs_OUT : TopAbs_ON;
+  return classify_point(fu, fv);
 }
 
 double TrimDomain::face_approx(int dir, double g) const {
@@ -254,8 +426,14 @@ void TrimDomain::build_quadtree(int node, const std::vector<int>& boxes, int dep
       here.push_back(b);
   QuadNode& n = quad_[static_cast<std::size_t>(node)];
   if (here.empty()) {
-    const TopAbs_State st = classify_point(0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1]));
+    const double c[2] = {0.5 * (n.lo[0] + n.hi[0]), 0.5 * (n.lo[1] + n.hi[1])};
+    const TopAbs_State st = classify_point(c[0], c[1]);
     n.state = rect_class(st);
+    // The winding number must agree with the classifier wherever both
+    // decide (a wire not closed in the plane, an orientation taken the
+    // other way, would show here): else it is not used on this face.
+    const int w = winding_ok_ ? winding_class(c[0], c[1]) : -1;
+    if ((w == 0 || w == 1) && st != TopAbs_ON && (w == 1) != (st == TopAbs_IN)) winding_ok_ = false;
     return;
   }
   if (depth >= 9) return;  // undecided leaf along the boundary
@@ -345,9 +523,8 @@ TrimDomain::RectClass TrimDomain::classify_rect(double u0, double u1, double v0,
   // The cache keeps ints (contains() stores 0/1 there): the RectClass
   // values.
   return static_cast<RectClass>(cached({{u0, u1, v0, v1}, 0}, [&] {
-    if (!curves_miss(lo, hi)) return static_cast<int>(RectClass::Boundary);
-    return static_cast<int>(
-        rect_class(classify_point(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]))));
+    if (curves_meet(lo, hi) != 1) return static_cast<int>(RectClass::Boundary);
+    return static_cast<int>(rect_class(point_state(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]))));
   }));
 }
 
@@ -457,7 +634,7 @@ bool TrimDomain::contains(double u, double v) const {
   // On the boundary to within rounding: the classifier, at the exact face
   // parameters.
   return cached({{u, u, v, v}, 1}, [&] {
-           return classify_point(to_face(0, u), to_face(1, v)) != TopAbs_OUT ? 1 : 0;
+           return point_state(to_face(0, u), to_face(1, v)) != TopAbs_OUT ? 1 : 0;
          }) > 0;
 }
 

@@ -54,6 +54,10 @@ class TrimDomain {
   RectClass classify_rect(double u0, double u1, double v0, double v1) const;
 
   int face_label() const { return label_; }  // the face index it was built with
+  // True if contains() decides points near the edges by the winding number
+  // (the face's wires close as loops and the winding agreed with the
+  // classifier wherever the quadtree asked it); false: the classifier.
+  bool uses_winding() const { return winding_ok_; }
 
  private:
   // Grid parameter -> face parameter, per direction (0: u, 1: v).
@@ -66,11 +70,20 @@ class TrimDomain {
   void add_boundary_boxes(const Geom2d_Curve& pc, double f, double l, double range);
   // Adds the p-curve on [f, l] as rational Bezier spans; false if it has no
   // exact Bezier form (an offset curve, a degree above the supported one).
-  bool add_spans(const Handle(Geom2d_Curve) & pc, double f, double l);
-  // True if no p-curve meets the closed face-parameter rectangle [lo, hi]
-  // (proved on the spans' control hulls under subdivision); false if one
-  // does or it could not be proved.
-  bool curves_miss(const double lo[2], const double hi[2]) const;
+  // `sign`: the span's direction along its wire's loop (Span2::sign).
+  bool add_spans(const Handle(Geom2d_Curve) & pc, double f, double l, int sign);
+  // Whether a p-curve meets the closed face-parameter rectangle [lo, hi]:
+  // 1 none does, 0 one does (each proved on the spans' control hulls under
+  // subdivision), -1 not decided.
+  int curves_meet(const double lo[2], const double hi[2]) const;
+  // The winding number of the oriented p-curves about the face-parameter
+  // point (fu, fv), by signed crossings of the ray towards +u (each span
+  // right of the point counts the change of side of its end points, one
+  // that straddles it is halved; the ray along -v, -u or +v where one along
+  // +u passes a join of two p-curves closer than their gap): 1 inside, 0
+  // outside, 2 on a p-curve (within on_tol_), -1 if it could not be decided
+  // (the classifier answers).
+  int winding_class(double fu, double fv) const;
   // Tabulated face(grid) maps for analytic faces, with a margin that bounds
   // their interpolation error.
   double face_approx(int dir, double g) const;
@@ -105,6 +118,8 @@ class TrimDomain {
   mutable std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> idle_classifiers_;
   std::unique_ptr<std::mutex> classifiers_lock_ = std::make_unique<std::mutex>();
   TopAbs_State classify_point(double fu, double fv) const;
+  // The winding number's answer where it has one, else the classifier's.
+  TopAbs_State point_state(double fu, double fv) const;
   const PatchGrid* grid_;
   std::vector<Box2> boundary_;  // boxes that contain the edges' p-curves
   // The p-curves as rational Bezier spans: homogeneous control points
@@ -112,11 +127,19 @@ class TrimDomain {
   struct Span2 {
     std::size_t first = 0;
     int degree = 0;
+    int sign = 0;  // +1 along the edge's orientation, -1 against it, 0: not on a wire's loop
     Box2 box;
   };
   std::vector<Span2> spans_;
   std::vector<double> span_cps_;  // 3 per control point
   bool spans_exact_ = true;       // every p-curve has its spans
+  // The span ends (in face parameters) and how far apart two that meet may
+  // lie; winding_class() is used only if the wires' p-curves close up to
+  // that gap and it agreed with the classifier at the quadtree's leaves.
+  std::vector<std::array<double, 2>> joins_;
+  double join_gap_ = 0;
+  double on_tol_ = 0;  // a point this near a p-curve is on the boundary
+  bool winding_ok_ = false;
   std::vector<QuadNode> quad_;
   std::vector<double> table_g_[2], table_f_[2];
   double table_margin_[2] = {0, 0};
