@@ -7,11 +7,11 @@
 // range). five_axis.cpp traces, clips and links; this poses.
 #pragma once
 
-#include <gp_Pnt.hxx>
-#include <gp_Vec.hxx>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <gp_Pnt.hxx>
+#include <gp_Vec.hxx>
 #include <optional>
 #include <unordered_map>
 #include <utility>
