@@ -38,20 +38,47 @@ struct FacePaths {
   std::shared_ptr<PathIndex> inside;
 };
 
-// A short iso-v path through (u, v), about 4 flat stepovers long (samples
-// at most `sample_max` apart), both ways round: a front from it spreads to
-// both sides; cut, the first alone is the path.
-std::vector<FrontPiece> seed_path(const PatchGrid& g, double u, double v, double flat,
-                                  double sample_max) {
-  const double speed = g.d1(u, v).su.Magnitude();
-  const double du = speed > 0 ? 0.5 * flat / speed : 0.0;
+// The points (u, v) + k (du, dv), k = -half..half, clamped to the grid's
+// parameter rectangle (a point where the last one is, once).
+FrontPiece line_piece(const PatchGrid& g, double u, double v, double du, double dv, int half) {
   FrontPiece pc;
-  for (int k = -4; k <= 4; ++k) {
+  for (int k = -half; k <= half; ++k) {
     FrontPoint x;
-    x.uv = {std::clamp(u + k * du, g.umin(), g.umax()), v};
+    x.uv = {std::clamp(u + k * du, g.umin(), g.umax()), std::clamp(v + k * dv, g.vmin(), g.vmax())};
     x.p = g.eval(x.uv.u, x.uv.v);
     if (pc.empty() || x.p.Distance(pc.back().p) > 1e-9) pc.push_back(x);
   }
+  return pc;
+}
+
+// A path through (u, v) along the nearest path of `index` (across the way
+// to it), from `step` before to `step` after it in space: the shortest
+// that takes a spot the paths left. Empty where no path is near or the
+// surface is degenerate there.
+FrontPiece along_nearest(const PatchGrid& g, const PathIndex& index, double u, double v,
+                         double step) {
+  const SurfaceDerivs d = g.d1(u, v);
+  gp_Pnt at;
+  index.distance(d.p, &at);
+  double du = 0.0, dv = 0.0;
+  if (d.p.Distance(at) <= 1e-9 ||
+      !param_direction(d, g.normal(u, v, &d).Crossed(gp_Vec(d.p, at)), &du, &dv))
+    return {};
+  const double speed = (d.su * du + d.sv * dv).Magnitude();
+  if (!(speed > 0)) return {};
+  return line_piece(g, u, v, step * du / speed, step * dv / speed, 1);
+}
+
+// The iso-v piece through (u, v), 4 flat stepovers long.
+FrontPiece iso_v_piece(const PatchGrid& g, double u, double v, double flat) {
+  const double speed = g.d1(u, v).su.Magnitude();
+  return line_piece(g, u, v, speed > 0 ? 0.5 * flat / speed : 0.0, 0.0, 4);
+}
+
+// A seed piece resampled (samples at most `sample_max` apart) and both
+// ways round: a front from it spreads to both sides; cut, the first alone
+// is the path. Empty if it has no length.
+std::vector<FrontPiece> seed_path(const PatchGrid& g, FrontPiece pc, double sample_max) {
   if (pc.size() < 2) return {};
   resample(g, &pc, sample_max);
   FrontPiece back(pc.rbegin(), pc.rend());
@@ -135,7 +162,7 @@ struct Tracer {
         if (2 * q.d <= s.min_spacing) return;
         if (q.kappa * p.ball_radius <= -1.0) return;  // the ball cannot touch there
         if (2 * q.d <= stepover_chord_with_error(p.ball_radius, h, q.kappa, e)) return;
-        for (FrontPiece& pc : seed_path(g, u, v, flat, s.sample_max)) {
+        for (FrontPiece& pc : seed_path(g, iso_v_piece(g, u, v, flat), s.sample_max)) {
           add(pc);
           front.push_back(std::move(pc));
         }
@@ -327,6 +354,8 @@ struct FaceCut {
 class ReachBorder {
  public:
   static constexpr double kStep = 0.25;  // the sampling step / the flat stepover
+  // Half the length of a spot's path / the flat stepover (cover()).
+  static constexpr double kSpotStep = 0.25;
 
   ReachBorder(FaceOut* o, const FaceSampling& samples, const PieceCutter& cutter,
               const IsoParams& params, double e, PathIndex* kept, FaceCut* out)
@@ -377,14 +406,27 @@ class ReachBorder {
   bool over(const Gap& q) const {
     return q.kappa * r_ > -1.0 && 2 * q.d > stepover_chord_with_error(r_, h_, q.kappa, e_);
   }
-  // A path through (u, v), reached, then its cusp certified.
+  // A path through (u, v), reached, then its cusp certified. What the cut
+  // leaves over h beside a reach border is mostly a spot at the end of a
+  // piece kept, so first the shortest path that takes it: half a flat
+  // stepover long, along the nearest piece kept (across the way to it).
+  // If the sample is still over (the clearance took that path), the
+  // longer iso-v seed.
   void cover(double u, double v) {
-    const std::vector<FrontPiece> seed = seed_path(g_, u, v, flat_, flat_);
-    double not_needed = 0.0, not_needed_from_above = 0.0;
-    if (!seed.empty())
-      cutter_.cut(seed.front(), &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above,
-                  kept_);
+    FrontPiece spot = along_nearest(g_, *kept_, u, v, kSpotStep * flat_);
+    if (spot.size() >= 2) resample(g_, &spot, flat_);
+    cut_seed(spot);
+    if (over(gap_at(g_, *kept_, u, v))) {
+      const std::vector<FrontPiece> seed = seed_path(g_, iso_v_piece(g_, u, v, flat_), flat_);
+      if (!seed.empty()) cut_seed(seed.front());
+    }
     certify(u, v);
+  }
+  // Its parts the ball cannot take are not needed: not unreachable.
+  void cut_seed(const FrontPiece& pc) {
+    if (pc.size() < 2) return;
+    double not_needed = 0.0, not_needed_from_above = 0.0;
+    cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, kept_);
   }
   void certify(double u, double v) {
     const Gap q = gap_at(g_, *kept_, u, v);

@@ -18,19 +18,6 @@ constexpr double kTurnBack = 0.25;
 // where they cut already.
 constexpr double kCovered = 0.7;
 
-// The parameter direction (a, b) with a Su + b Sv the tangential part of
-// `dir`: the first fundamental form [E F; F G] (a, b) = (dir.Su, dir.Sv).
-// False at a degenerate point (a pole), where there is no such direction.
-bool param_direction(const SurfaceDerivs& d, const gp_Vec& dir, double* a, double* b) {
-  const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
-  const double det = E * G - F * F;
-  if (!(det > 1e-14 * std::max(E * G, 1e-300))) return false;
-  const double ru = dir.Dot(d.su), rv = dir.Dot(d.sv);
-  *a = (G * ru - F * rv) / det;
-  *b = (E * rv - F * ru) / det;
-  return std::isfinite(*a) && std::isfinite(*b);
-}
-
 ParamPt clamp_to(const PatchGrid& g, ParamPt q) {
   q.u = std::clamp(q.u, g.umin(), g.umax());
   q.v = std::clamp(q.v, g.vmin(), g.vmax());
@@ -268,6 +255,16 @@ std::int64_t cell_key(long i, long j, long k) {
 }
 
 }  // namespace
+
+bool param_direction(const SurfaceDerivs& d, const gp_Vec& dir, double* a, double* b) {
+  const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
+  const double det = E * G - F * F;
+  if (!(det > 1e-14 * std::max(E * G, 1e-300))) return false;
+  const double ru = dir.Dot(d.su), rv = dir.Dot(d.sv);
+  *a = (G * ru - F * rv) / det;
+  *b = (E * rv - F * ru) / det;
+  return std::isfinite(*a) && std::isfinite(*b);
+}
 
 StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_guess) {
   StripFrame f;

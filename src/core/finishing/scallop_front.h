@@ -110,6 +110,11 @@ struct FrontStep {
 FrontStep advance_front(const PatchGrid& g, std::vector<FrontPiece>* front, const StripWidth& width,
                         const FrontSettings& s, const PathIndex& done);
 
+// The parameter direction (a, b) with a Su + b Sv the tangential part of
+// `dir`: the first fundamental form [E F; F G] (a, b) = (dir.Su, dir.Sv).
+// False at a degenerate point (a pole), where there is no such direction.
+bool param_direction(const SurfaceDerivs& d, const gp_Vec& dir, double* a, double* b);
+
 // The normal curvature at uv along the tangential part of `dir` (convex >
 // 0); 0 at a degenerate point.
 double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir);
