@@ -203,11 +203,15 @@ void splice_readme(const std::string& path, const std::string& body) {
 int main(int argc, char** argv) {
   using namespace isocam;
   if (argc < 2) {
-    std::cerr << "usage: isocam_finish_bench SOURCE_DIR [--quick]\n";
+    std::cerr << "usage: isocam_finish_bench SOURCE_DIR [--quick | --pattern NAME]\n"
+                 "  --quick: the first two models only; --pattern: that pattern's rows only,\n"
+                 "  printed and not written (a quick comparison while working)\n";
     return 2;
   }
   const std::string root = argv[1];
-  const bool quick = argc > 2 && std::string(argv[2]) == "--quick";
+  const std::string option = argc > 2 ? argv[2] : "";
+  const bool quick = option == "--quick";
+  const std::string only = option == "--pattern" && argc > 3 ? argv[3] : "";
   auto brep = [](const char* name) { return [name]() { return test::load(name); }; };
   auto first = [](const TopoDS_Shape&) { return std::vector<int>{0}; };
   auto figure2 = [] { return TopoDS_Shape(test::figure2_ruled_surface()); };
@@ -239,6 +243,7 @@ int main(int argc, char** argv) {
                            IsoPattern::ConstantScallop}) {
       if (m.no_baselines && pat != IsoPattern::Adaptive && pat != IsoPattern::ConstantScallop)
         continue;
+      if (!only.empty() && only != pattern_name(pat)) continue;
       try {
         rows.push_back(run(m, pat));
       } catch (const std::exception& e) {
@@ -250,9 +255,12 @@ int main(int argc, char** argv) {
                 << num(r.m.cutting_length, 1) << " mm, L* " << num(r.m.lower_bound_length, 1)
                 << ", retracts " << r.m.retracts << ", machine " << num(r.m.machine_time / 60, 1)
                 << " min, cutting " << num(r.m.cutting_time / 60, 1)
-                << " min, measured max distance " << num(r.check.max_gap, 4) << ", min clearance "
-                << num(r.check.min_clearance, 4) << std::endl;
+                << " min, measured max distance "
+                << (r.checked ? num(r.check.max_gap, 4) : std::string("-")) << ", min clearance "
+                << (r.checked ? num(r.check.min_clearance, 4) : std::string("-"))
+                << ", guaranteed scallop " << num(r.m.guaranteed_scallop, 4) << std::endl;
     }
+  if (!only.empty()) return rows.empty() ? 2 : 0;
   const unsigned cores = std::thread::hardware_concurrency();
   std::ostringstream md;
   md << "Measured by `./run bench` on this project's machine (" << cores
