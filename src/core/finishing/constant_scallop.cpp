@@ -108,21 +108,30 @@ struct Tracer {
     clip.add_inside(pc, out.inside.get());
   }
 
-  // Paths from `front` until no point moves (or the cap).
-  void propagate(std::vector<FrontPiece> front) {
-    while (!front.empty()) {
+  // Paths from `front` until no point moves (or the cap). With `pairs`,
+  // the first front is seeds both ways round (seed_path()): each pair
+  // spreads to both sides, and the first of it alone is a path.
+  void propagate(std::vector<FrontPiece> front, bool pairs = false) {
+    for (bool first = true; !front.empty(); first = false) {
+      const std::size_t stride = first && pairs ? 2 : 1;
+      auto keep = [&] {
+        Path path;
+        for (std::size_t i = 0; i < front.size(); i += stride) path.push_back(std::move(front[i]));
+        out.paths.push_back(std::move(path));
+      };
       progress.check();
       if (out.paths.size() >= max_paths || samples > 20000000) {
         out.capped = true;
-        out.paths.push_back(front);
+        keep();
         return;
       }
       for (const FrontPiece& pc : front) add(pc);
       FrontStep step = advance_front(g, &front, width, s, *out.index);
       out.min_hits += step.min_hits;
-      for (const FrontPiece& pc : front) {
-        samples += pc.size();
-        for (std::size_t k = 1; k < pc.size(); ++k) out.length += pc[k - 1].p.Distance(pc[k].p);
+      for (std::size_t i = 0; i < front.size(); i += stride) {
+        samples += front[i].size();
+        for (std::size_t k = 1; k < front[i].size(); ++k)
+          out.length += front[i][k - 1].p.Distance(front[i][k].p);
       }
       // The certificate: each point with a successor against the next path.
       // Where the successor is on it (the next path passes within 2% of the
@@ -145,7 +154,7 @@ struct Tracer {
           out.max_spacing = std::max(out.max_spacing, chord);
           out.scallop = raise_scallop(out.scallop, p.ball_radius, chord, q.kappa, e);
         }
-      out.paths.push_back(std::move(front));
+      keep();
       front = std::move(step.next);
     }
   }
@@ -170,7 +179,7 @@ struct Tracer {
       });
       if (front.empty()) return;
       progress.check();
-      propagate(std::move(front));
+      propagate(std::move(front), true);
     }
   }
 };
