@@ -168,6 +168,30 @@ TEST(ConstantScallop, Figure2IsCoveredAndShorterThanAdaptive) {
   EXPECT_LT(res.metrics.cutting_length, adaptive.metrics.cutting_length);
 }
 
+// Under Auto both directions are traced and the one whose program is
+// shorter is kept. On two small faces of Ball (r 1: the ball centres' paths
+// far from the contact's), the contact polylines' lengths pointed to the
+// direction that cuts 3.1 and 3.7 times more (the choice before); Auto must
+// cut no more than the better of the two directions asked for alone.
+TEST(ConstantScallop, AutoKeepsTheDirectionThatCutsLess) {
+  const TopoDS_Shape ball = test::load("Ball.brep");
+  for (int face : {11, 15}) {
+    IsoParams p = scallop_params(1.0, 0.01);
+    p.protect_unpicked_faces = true;
+    double fixed[2];
+    for (IsoDirection d : {IsoDirection::U, IsoDirection::V}) {
+      p.direction = d;
+      fixed[d == IsoDirection::V] = adaptive_isocurve(ball, {face}, p).metrics.cutting_length;
+    }
+    p.direction = IsoDirection::Auto;
+    const double automatic = adaptive_isocurve(ball, {face}, p).metrics.cutting_length;
+    std::cout << "Ball face " << face << ": iso-U " << fixed[0] << " mm, iso-V " << fixed[1]
+              << " mm, Auto " << automatic << " mm\n";
+    EXPECT_GT(std::max(fixed[0], fixed[1]), 2 * std::min(fixed[0], fixed[1]));
+    EXPECT_LE(automatic, std::min(fixed[0], fixed[1]) * (1 + 1e-9));
+  }
+}
+
 // A trimmed face (face.brep: a plate with two holes): the paths are clipped
 // to the wires, so no contact point of a feed move lies outside the face,
 // the trimmed domain is covered within the spacing, and the certificate

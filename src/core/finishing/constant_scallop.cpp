@@ -24,7 +24,15 @@ using Path = std::vector<FrontPiece>;
 // The paths of one face in a working grid, with the measured spacing.
 struct FacePaths {
   std::vector<Path> paths;
-  double length = 0.0;  // of the contact polylines
+  // Of the ball centres' polylines (the paths' samples offset by r): what
+  // the cut's length follows (on curved ground, not the contact's).
+  double length = 0.0;
+  int pieces = 0;
+  double link = 0.0;  // the least link from a piece to the next: the flat stepover
+  // What the direction is chosen by: the centres' length and a link a
+  // spacing long from each piece to the next (at the feed, as the links
+  // between neighbouring passes are).
+  double cost() const { return length + pieces * link; }
   double max_spacing = 0.0, scallop = 0.0, max_width = 0.0;
   int min_hits = 0, seeds = 0;
   // The samples the certificate is measured on (about half the flat
@@ -67,6 +75,13 @@ FrontPiece along_nearest(const PatchGrid& g, const PathIndex& index, double u, d
   const double speed = (d.su * du + d.sv * dv).Magnitude();
   if (!(speed > 0)) return {};
   return line_piece(g, u, v, step * du / speed, step * dv / speed, 1);
+}
+
+// Ground a gap `q` from the paths is left with a cusp over h by a ball of
+// radius r (the centres up to e off); concave ground tighter than the ball
+// (it cannot touch there) never is.
+bool left_over(const Gap& q, double r, double h, double e) {
+  return q.kappa * r > -1.0 && 2 * q.d > stepover_chord_with_error(r, h, q.kappa, e);
 }
 
 // The iso-v piece through (u, v), 4 flat stepovers long.
@@ -130,8 +145,14 @@ struct Tracer {
       out.min_hits += step.min_hits;
       for (std::size_t i = 0; i < front.size(); i += stride) {
         samples += front[i].size();
-        for (std::size_t k = 1; k < front[i].size(); ++k)
-          out.length += front[i][k - 1].p.Distance(front[i][k].p);
+        ++out.pieces;
+        gp_Pnt last;
+        for (std::size_t k = 0; k < front[i].size(); ++k) {
+          const FrontPoint& q = front[i][k];
+          const gp_Pnt c = q.p.Translated(g.normal(q.uv.u, q.uv.v) * p.ball_radius);
+          if (k > 0) out.length += last.Distance(c);
+          last = c;
+        }
       }
       // The certificate: each point with a successor against the next path.
       // Where the successor is on it (the next path passes within 2% of the
@@ -159,6 +180,11 @@ struct Tracer {
     }
   }
 
+  // Left over h (left_over()) by paths more than the minimum spacing away.
+  bool over(const Gap& q) const {
+    return 2 * q.d > s.min_spacing && left_over(q, p.ball_radius, h, e);
+  }
+
   // "Start new paths there": where the front left ground uncovered (it split
   // at a fold, turned back, or a wedge stayed between its parts), seeds on
   // the samples of the face (inside its wires) whose distance to the paths
@@ -167,10 +193,7 @@ struct Tracer {
     for (int round = 0; round < 8; ++round) {
       std::vector<FrontPiece> front;
       out.sampling->for_each([&](double u, double v) {
-        const Gap q = gap_at(g, *out.inside, u, v);
-        if (2 * q.d <= s.min_spacing) return;
-        if (q.kappa * p.ball_radius <= -1.0) return;  // the ball cannot touch there
-        if (2 * q.d <= stepover_chord_with_error(p.ball_radius, h, q.kappa, e)) return;
+        if (!over(gap_at(g, *out.inside, u, v))) return;
         for (FrontPiece& pc : seed_path(g, iso_v_piece(g, u, v, flat), s.sample_max)) {
           add(pc);
           front.push_back(std::move(pc));
@@ -198,6 +221,7 @@ FacePaths trace_paths(const PatchGrid& g, const TrimDomain& trim, bool transpose
   t.s.sample_max = flat;
   t.s.min_spacing = 0.02 * flat;
   t.max_paths = static_cast<std::size_t>(8.0 * g.size() / t.s.min_spacing) + 100;
+  t.out.link = flat;
   t.out.index = std::make_shared<PathIndex>(flat);
   t.out.inside = std::make_shared<PathIndex>(flat);
   t.propagate(start_front(g, flat, t.s.sample_max));
@@ -310,7 +334,8 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
 
 // Phase 2: per face, among the directions that did not fail (a failed one
 // beside another is a warning), the one that meets the scallop by its
-// certificate, then the shorter one; if all failed, the first failure.
+// certificate, then the one of lower FacePaths::cost() (the centres'
+// length and a spacing's link per piece); if all failed, the first failure.
 std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h,
                             std::vector<std::string>* warnings) {
   std::vector<FaceOut> chosen(tried.size() / nd);
@@ -320,7 +345,7 @@ std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h
       const FaceOut &a = tried[f * nd + d], &b = tried[best];
       const bool ma = a.meets(h), mb = b.meets(h);
       if (a.failed) continue;
-      if (b.failed || (ma && !mb) || (ma == mb && a.paths.length < b.paths.length))
+      if (b.failed || (ma && !mb) || (ma == mb && a.paths.cost() < b.paths.cost()))
         best = f * nd + d;
     }
     for (std::size_t d = 0; d < nd && !tried[best].failed; ++d)
@@ -410,11 +435,7 @@ class ReachBorder {
   }
 
  private:
-  // Concave ground tighter than the ball (it cannot touch there) is never
-  // over.
-  bool over(const Gap& q) const {
-    return q.kappa * r_ > -1.0 && 2 * q.d > stepover_chord_with_error(r_, h_, q.kappa, e_);
-  }
+  bool over(const Gap& q) const { return left_over(q, r_, h_, e_); }
   // A path through (u, v), reached, then its cusp certified. What the cut
   // leaves over h beside a reach border is mostly a spot at the end of a
   // piece kept, so first the shortest path that takes it: half a flat
