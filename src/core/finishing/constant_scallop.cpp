@@ -407,7 +407,8 @@ class ReachBorder {
   void fill() {
     o_->gap = o_->gap_scallop = 0.0;
     samples_.for_each([&](double u, double v) {
-      if (!over(gap_at(g_, *kept_, u, v))) return certify(u, v);
+      const Gap q = gap_at(g_, *kept_, u, v);
+      if (!over(q)) return certify(q);
       if (cutter_.reached(u, v)) return cover(u, v);
       // Towards the neighbours a sampling step away.
       const SurfaceDerivs d = g_.d1(u, v);
@@ -426,10 +427,11 @@ class ReachBorder {
             (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
           }
           const double ub = u + s1 * (u1 - u), vb = v + s1 * (v1 - v);
-          if (over(gap_at(g_, *kept_, ub, vb)))
+          const Gap qb = gap_at(g_, *kept_, ub, vb);
+          if (over(qb))
             cover(ub, vb);
           else
-            certify(ub, vb);
+            certify(qb);
         }
     });
   }
@@ -446,11 +448,13 @@ class ReachBorder {
     FrontPiece spot = along_nearest(g_, *kept_, u, v, kSpotStep * flat_);
     if (spot.size() >= 2) resample(g_, &spot, flat_);
     cut_seed(spot);
-    if (over(gap_at(g_, *kept_, u, v))) {
+    Gap q = gap_at(g_, *kept_, u, v);
+    if (over(q)) {
       const std::vector<FrontPiece> seed = seed_path(g_, iso_v_piece(g_, u, v, flat_), flat_);
       if (!seed.empty()) cut_seed(seed.front());
+      q = gap_at(g_, *kept_, u, v);
     }
-    certify(u, v);
+    certify(q);
   }
   // Its parts the ball cannot take are not needed: not unreachable.
   void cut_seed(const FrontPiece& pc) {
@@ -458,8 +462,9 @@ class ReachBorder {
     double not_needed = 0.0, not_needed_from_above = 0.0;
     cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, kept_);
   }
-  void certify(double u, double v) {
-    const Gap q = gap_at(g_, *kept_, u, v);
+  // The cusp a sample's gap `q` to the pieces kept leaves, into the
+  // certificate.
+  void certify(const Gap& q) {
     if (q.kappa * r_ <= -1.0) return;
     o_->gap = std::max(o_->gap, q.d);
     o_->gap_scallop = raise_scallop(o_->gap_scallop, r_, 2 * q.d, q.kappa, e_);
