@@ -140,7 +140,9 @@ struct Tracer {
         keep();
         return;
       }
-      for (const FrontPiece& pc : front) add(pc);
+      // (Seeds are in the indexes already: fill_gaps() put them there.)
+      if (!(first && pairs))
+        for (const FrontPiece& pc : front) add(pc);
       FrontStep step = advance_front(g, &front, width, s, *out.index);
       out.min_hits += step.min_hits;
       for (std::size_t i = 0; i < front.size(); i += stride) {
@@ -194,10 +196,9 @@ struct Tracer {
       std::vector<FrontPiece> front;
       out.sampling->for_each([&](double u, double v) {
         if (!over(gap_at(g, *out.inside, u, v))) return;
-        for (FrontPiece& pc : seed_path(g, iso_v_piece(g, u, v, flat), s.sample_max)) {
-          add(pc);
-          front.push_back(std::move(pc));
-        }
+        std::vector<FrontPiece> pair = seed_path(g, iso_v_piece(g, u, v, flat), s.sample_max);
+        if (!pair.empty()) add(pair.front());  // the other is the same line
+        for (FrontPiece& pc : pair) front.push_back(std::move(pc));
         ++out.seeds;
       });
       if (front.empty()) return;
