@@ -28,11 +28,10 @@ struct FacePaths {
   // the cut's length follows (on curved ground, not the contact's).
   double length = 0.0;
   int pieces = 0;
-  double link = 0.0;  // the least link from a piece to the next: the flat stepover
-  // What the direction is chosen by: the centres' length and a link a
-  // spacing long from each piece to the next (at the feed, as the links
-  // between neighbouring passes are).
-  double cost() const { return length + pieces * link; }
+  // What the direction is chosen by: the centres' length and a link `link`
+  // long from each piece to the next (the least: a flat stepover, at the
+  // feed, as the links between neighbouring passes are).
+  double cost(double link) const { return length + pieces * link; }
   double max_spacing = 0.0, scallop = 0.0, max_width = 0.0;
   int min_hits = 0, seeds = 0;
   // The samples the certificate is measured on (about half the flat
@@ -222,7 +221,6 @@ FacePaths trace_paths(const PatchGrid& g, const TrimDomain& trim, bool transpose
   t.s.sample_max = flat;
   t.s.min_spacing = 0.02 * flat;
   t.max_paths = static_cast<std::size_t>(8.0 * g.size() / t.s.min_spacing) + 100;
-  t.out.link = flat;
   t.out.index = std::make_shared<PathIndex>(flat);
   t.out.inside = std::make_shared<PathIndex>(flat);
   t.propagate(start_front(g, flat, t.s.sample_max));
@@ -336,8 +334,9 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
 // Phase 2: per face, among the directions that did not fail (a failed one
 // beside another is a warning), the one that meets the scallop by its
 // certificate, then the one of lower FacePaths::cost() (the centres'
-// length and a spacing's link per piece); if all failed, the first failure.
-std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h,
+// length and a link `flat` long per piece: the flat stepover); if all
+// failed, the first failure.
+std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h, double flat,
                             std::vector<std::string>* warnings) {
   std::vector<FaceOut> chosen(tried.size() / nd);
   for (std::size_t f = 0; f < chosen.size(); ++f) {
@@ -346,7 +345,7 @@ std::vector<FaceOut> choose(std::vector<FaceOut> tried, std::size_t nd, double h
       const FaceOut &a = tried[f * nd + d], &b = tried[best];
       const bool ma = a.meets(h), mb = b.meets(h);
       if (a.failed) continue;
-      if (b.failed || (ma && !mb) || (ma == mb && a.paths.cost() < b.paths.cost()))
+      if (b.failed || (ma && !mb) || (ma == mb && a.paths.cost(flat) < b.paths.cost(flat)))
         best = f * nd + d;
     }
     for (std::size_t d = 0; d < nd && !tried[best].failed; ++d)
@@ -554,8 +553,9 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
   ScallopPieces out;
   const StripWidth width =
       width_in ? width_in : ball_strip_width(params.ball_radius, params.scallop_height, e);
-  std::vector<FaceOut> chosen = choose(plan_faces(faces, dirs, width, params, e, all), dirs.size(),
-                                       params.scallop_height, &out.warnings);
+  std::vector<FaceOut> chosen =
+      choose(plan_faces(faces, dirs, width, params, e, all), dirs.size(), params.scallop_height,
+             stepover_for_scallop(params.ball_radius, params.scallop_height), &out.warnings);
   std::vector<FaceCut> cut(faces.size());
   for_each_index(faces.size(), params.threads, [&](std::size_t f) {
     all.check();
