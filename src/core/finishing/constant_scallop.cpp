@@ -268,6 +268,8 @@ class PieceCutter {
       for (CutPiece& piece :
            clear_pieces(pts, ts, f, model_, clearance_, p_.chord_tolerance, from_above)) {
         length += piece.length();
+        piece.front_normal = normal(uv_at(pc, piece.t.front()));
+        piece.back_normal = normal(uv_at(pc, piece.t.back()));
         kept->add(clip_.contact(pc, piece.t.front(), piece.t.back()));
         out->push_back(std::move(piece));
       }
@@ -287,6 +289,7 @@ class PieceCutter {
     const SurfaceDerivs d = g_.d1(uv.u, uv.v);
     return d.p.Translated(g_.normal(uv.u, uv.v, &d) * p_.ball_radius);
   }
+  gp_Vec normal(const ParamPt& uv) const { return g_.normal(uv.u, uv.v); }
 
   const PatchGrid& g_;
   const TrimDomain& trim_;

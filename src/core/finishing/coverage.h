@@ -3,6 +3,8 @@
 
 #include <functional>
 #include <gp_Pnt.hxx>
+#include <gp_Vec.hxx>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,6 +77,10 @@ struct CutPiece {
   double level = 0.0;
   std::vector<gp_Pnt> pts;  // ball centres
   std::vector<double> t;    // curve parameter of each
+  // Without a grid: the face's normals at the contact points of the first
+  // and the last centre, where the pattern knows them (the entries and
+  // lifts beside a wall go out along them, link_pieces()).
+  std::optional<gp_Vec> front_normal, back_normal;
   double length() const;
   void reverse();
 };
@@ -123,10 +129,13 @@ std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::ve
 // height tried (max of the two ends + air_clearance x 2^k) whose move the
 // model clears by r + air_clearance, down to the lowest height tried
 // (air_clearance x 2^k above the entry) from which the descent clears it
-// as much, and the rest of the entry fed (a plunge). The lift and the fed
-// entry keep the cutting clearance; hops that find nothing clear below the
-// safe height go to it. The path starts at the safe height above its first
-// point and ends with a retract to it.
+// as much, and the rest of the entry fed (a plunge, a ramp along the pass,
+// or out along the normal beside a wall); the lift fed where a rapid would
+// graze the model, or first fed out of the pass beside a wall (along the
+// normal, or back along it and up; AirMoves in isocurve_link.cpp). The
+// lift, the move out and the fed entry keep the cutting clearance; hops
+// that find nothing clear below the safe height go to it. The path starts
+// at the safe height above its first point and ends with a retract to it.
 Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
                      const ClearanceModel& model);
 

@@ -90,6 +90,9 @@ std::optional<double> lowest_clear(const std::vector<double>& tries, std::option
 // when a is null): ball centres up, across, down (rapids) to the approach
 // point, then the fed entry from there to b. Times in minutes.
 struct Hop {
+  // Where the lift starts, if not at a: the end of a fed move out of a
+  // (along the normal, or back along the pass and up; AirMoves::plan()).
+  std::optional<gp_Pnt> leave;
   double top = 0.0;  // centre height of the move across
   // The lift from a: fed (at the vertical feed) up to this centre height,
   // from there a rapid; a's own height if the whole lift is a rapid.
@@ -117,29 +120,68 @@ class AirMoves {
   // makes the faster hop (plan_from()): a ramp down to b along the pass
   // (`dir`, horizontal, if given) from air_clearance back and as much above
   // it, fed at the horizontal feed (three times the vertical one), where
-  // that ramp is clear; or a plunge at the vertical feed from
-  // air_clearance above b, or out along the surface normal `n` at b where
-  // the point above is not clear (a steep wall). A ramp fed from no higher
-  // than twice its first try is taken without planning the plunge (the
-  // plunge could be at most a third of its length, rarely so).
-  Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
+  // that ramp is clear, and where it is not (the pass starts at a wall)
+  // from twice as far ahead, over the pass's own start; or a plunge at the
+  // vertical feed from air_clearance above b, or where that point is not
+  // clear (a steep wall) from out along the surface normal `n` at b:
+  // air_clearance, twice that (b may be a little nearer than r to the
+  // wall), or twice that out and as much up (the ground beside the wall
+  // may rise), the first clear. A ramp fed from no higher than twice its
+  // first try is taken without planning the plunge (the plunge could be at
+  // most a third of its length, rarely so).
+  //
+  // The lift: straight up from a, or, where part of it is fed (a pass
+  // that ends beside a wall lifts along it at the vertical feed) and that
+  // is faster, first fed out of a (at the vertical feed): along the
+  // surface normal `a_n` there air_clearance, or back along the pass
+  // (`a_dir`, the horizontal direction it ended in) twice air_clearance and
+  // up as much, where that move is clear; then up.
+  Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir,
+           const gp_Vec* a_n = nullptr, const gp_Vec* a_dir = nullptr) const {
+    Hop best = plan_entry(a, b, n, dir);
+    if (!a || best.fed_to <= a->Z()) return best;
+    const double air = p_.air_clearance;
+    std::vector<gp_Pnt> leaves;
+    if (a_n) leaves.push_back(a->Translated(*a_n * air));
+    if (a_dir) leaves.push_back(a->Translated(*a_dir * (-2.0 * air) + gp_Vec(0, 0, 2.0 * air)));
+    for (const gp_Pnt& leave : leaves) {
+      if (!model_.clear(*a, leave, cut_)) continue;
+      Hop out = plan_entry(&leave, b, n, dir);
+      out.time += a->Distance(leave) / p_.plunge_rate;
+      out.leave = leave;
+      if (out.time < best.time) best = out;
+    }
+    return best;
+  }
+
+ private:
+  // The hop from a, lifting straight up, with the faster of the entries.
+  Hop plan_entry(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
     const double air = p_.air_clearance;
     const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
     std::optional<Hop> ramp;
     if (dir) {
       const gp_Pnt back = above.Translated(*dir * -air);
-      if (model_.clear(back, b, cut_)) {
-        ramp = plan_from(a, b, back, true);
+      const gp_Pnt ahead = above.Translated(*dir * (2.0 * air));
+      for (const gp_Pnt& from : {back, ahead}) {
+        if (!model_.clear(from, b, cut_)) continue;
+        ramp = plan_from(a, b, from, true);
         if (ramp->ramp && ramp->approach.Z() - b.Z() <= 2.0 * air) return *ramp;
+        break;
       }
     }
     gp_Pnt first = above;
-    if (n && !model_.clear(above, air_) && model_.clear(b.Translated(*n * air), air_))
-      first = b.Translated(*n * air);
+    if (n && !model_.clear(above, air_))
+      for (const gp_Vec& out : {*n * air, *n * (2.0 * air), (*n + gp_Vec(0, 0, 1)) * (2.0 * air)})
+        if (model_.clear(b.Translated(out), air_)) {
+          first = b.Translated(out);
+          break;
+        }
     const Hop plunge = plan_from(a, b, first, false);
     return ramp && ramp->time < plunge.time ? *ramp : plunge;
   }
 
+ public:
   // The hop whose fed entry starts at or above `first` (a ramp or a
   // plunge). The move across: the lowest of the heights max(a.z, first.z) +
   // air_clearance x 2^k found clear, else the safe height (which the caller
@@ -230,21 +272,36 @@ class AirMoves {
   double safe_c_, cut_, air_, touch_;
 };
 
-// The horizontal direction a piece starts in (none if it starts vertically).
-std::optional<gp_Vec> start_direction(const CutPiece& p) {
-  if (p.pts.size() < 2) return std::nullopt;
-  gp_Vec d(p.pts[0], p.pts[1]);
+// The horizontal direction from a to b (none if b is straight above or
+// below a).
+std::optional<gp_Vec> horizontal(const gp_Pnt& a, const gp_Pnt& b) {
+  gp_Vec d(a, b);
   d.SetZ(0.0);
   if (d.Magnitude() < 1e-9) return std::nullopt;
   return d.Normalized();
 }
 
-// The surface normal at the start of a piece (none without a grid).
-std::optional<gp_Vec> start_normal(const CutPiece& p) {
-  if (!p.grid) return std::nullopt;
-  const double t = p.t.front();
+// The horizontal direction a piece starts in, and the one it ends in.
+std::optional<gp_Vec> start_direction(const CutPiece& p) {
+  if (p.pts.size() < 2) return std::nullopt;
+  return horizontal(p.pts[0], p.pts[1]);
+}
+std::optional<gp_Vec> end_direction(const CutPiece& p) {
+  if (p.pts.size() < 2) return std::nullopt;
+  return horizontal(p.pts[p.pts.size() - 2], p.pts.back());
+}
+
+// The surface normal at the start of a piece, and at its end (none
+// without a grid, unless the pattern gave them).
+gp_Vec normal_at(const CutPiece& p, double t) {
   const SurfaceDerivs d = p.grid->d1(t, p.level);
   return p.grid->normal(t, p.level, &d);
+}
+std::optional<gp_Vec> start_normal(const CutPiece& p) {
+  return p.grid ? normal_at(p, p.t.front()) : p.front_normal;
+}
+std::optional<gp_Vec> end_normal(const CutPiece& p) {
+  return p.grid ? normal_at(p, p.t.back()) : p.back_normal;
 }
 
 }  // namespace
@@ -262,6 +319,7 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   // of p by `h`.
   auto enter = [&](const CutPiece& p, const Hop& h) {
     const gp_Pnt& e = h.approach;
+    if (h.leave) tip(MoveKind::Plunge, *h.leave);
     if (!path.empty() && h.fed_to > path.z.back() + r)
       path.add(MoveKind::Plunge, path.x.back(), path.y.back(), h.fed_to - r);
     if (!path.empty() && h.top > path.z.back() + r)
@@ -316,8 +374,10 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
       d_next = start_direction(q);
       if (nearest.reversed) q.reverse();
     }
+    const std::optional<gp_Vec> d_end = end_direction(pieces[cur]), n_end = end_normal(pieces[cur]);
     const Hop hop =
-        air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr, d_next ? &*d_next : nullptr);
+        air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr, d_next ? &*d_next : nullptr,
+                 n_end ? &*n_end : nullptr, d_end ? &*d_end : nullptr);
     // The candidates a link might be faster than the hop to, tried in
     // order, a batch of them (one per thread) at a time: the first clear
     // one in order is taken (or the hop, if it is faster), whatever the

@@ -277,6 +277,7 @@ double CutPiece::length() const {
 void CutPiece::reverse() {
   std::reverse(pts.begin(), pts.end());
   std::reverse(t.begin(), t.end());
+  std::swap(front_normal, back_normal);
 }
 
 std::vector<PlannedCurve> plan_face(const PatchGrid& g, std::vector<SubIsocurve> curves,
@@ -313,7 +314,7 @@ std::vector<CutPiece> cut_planned(const PatchGrid& g, const PlannedCurve* first,
                          model, clearance, tol);
     for (CentrePolyline& run : splitter.split(pc->line)) {
       kept += run.length();
-      pieces.push_back({&g, c.level, std::move(run.pts), std::move(run.t)});
+      pieces.push_back({&g, c.level, std::move(run.pts), std::move(run.t), {}, {}});
     }
     const double dropped = std::max(0.0, pc->line.length() - kept);
     st.unreachable_length += dropped;
@@ -335,7 +336,7 @@ std::vector<CutPiece> clear_pieces(const std::vector<gp_Pnt>& pts, const std::ve
   double kept = 0.0;
   for (CentrePolyline& run : splitter.split(line)) {
     kept += run.length();
-    out.push_back({nullptr, 0.0, std::move(run.pts), std::move(run.t)});
+    out.push_back({nullptr, 0.0, std::move(run.pts), std::move(run.t), {}, {}});
   }
   if (from_above)
     *from_above += std::min(std::max(0.0, line.length() - kept), splitter.from_above());

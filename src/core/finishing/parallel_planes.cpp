@@ -80,6 +80,8 @@ class CurveCutter {
       double kept = 0.0;
       for (CutPiece& piece : pieces) {
         kept += piece.length();
+        piece.front_normal = map_.at(piece.t.front()).p.normal;
+        piece.back_normal = map_.at(piece.t.back()).p.normal;
         out->max_factor = std::max(out->max_factor, pass_factor(piece));
         piece.level = level_;
         out->pieces.emplace_back(curve_.plane, std::move(piece));

@@ -14,9 +14,12 @@ namespace isocam {
 // and those of the uint8 `kind` arrays the operations return; they do not
 // change.
 enum class MoveKind : std::uint8_t {
-  Rapid = 0,   // G0
-  Feed = 1,    // G1 at horizontal feed (cutting and linking moves)
-  Plunge = 2,  // G1 at vertical feed: the fed part of an entry, straight down (or along the normal)
+  Rapid = 0,  // G0
+  Feed = 1,   // G1 at horizontal feed (cutting and linking moves)
+  // G1 at vertical feed: the fed part of an entry, straight down (or along
+  // the normal), or of a lift (straight up, or first out of the pass beside
+  // a wall: along the normal, or back along it and up)
+  Plunge = 2,
   ArcCW = 3,   // G2 at horizontal feed, clockwise in the XY plane about (cx, cy)
   ArcCCW = 4,  // G3, counter-clockwise
   Ramp = 5,    // G1 at horizontal feed: the fed part of an entry, a ramp down along the pass
