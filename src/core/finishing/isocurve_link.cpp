@@ -139,8 +139,10 @@ class AirMoves {
   Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir,
            const gp_Vec* a_n = nullptr, const gp_Vec* a_dir = nullptr) const {
     Hop best = plan_entry(a, b, n, dir);
-    if (!a || best.fed_to <= a->Z()) return best;
     const double air = p_.air_clearance;
+    // A move out is fed at least air_clearance: only a longer fed lift can
+    // be slower.
+    if (!a || best.fed_to - a->Z() <= air) return best;
     std::vector<gp_Pnt> leaves;
     if (a_n) leaves.push_back(a->Translated(*a_n * air));
     if (a_dir) leaves.push_back(a->Translated(*a_dir * (-2.0 * air) + gp_Vec(0, 0, 2.0 * air)));
