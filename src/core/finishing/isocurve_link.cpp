@@ -138,7 +138,69 @@ class AirMoves {
   // up as much, where that move is clear; then up.
   Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir,
            const gp_Vec* a_n = nullptr, const gp_Vec* a_dir = nullptr) const {
-    Hop best = plan_entry(a, b, n, dir);
+    const Entry e = entry(b, n, dir);
+    return leave_and(a, a_n, a_dir, [&](const gp_Pnt* from) { return plan_entry(from, b, e); });
+  }
+
+  // The lift from a at the end of the program, to the safe height (by the
+  // same choice of a move out as plan()'s).
+  Hop retract(const gp_Pnt& a, const gp_Vec* a_n, const gp_Vec* a_dir) const {
+    return leave_and(&a, a_n, a_dir, [&](const gp_Pnt* from) {
+      Hop h;
+      h.top = safe_c_;
+      h.fed_to = lift_fed_to(*from, safe_c_);
+      h.approach = up(*from, safe_c_);
+      h.time = (h.fed_to - from->Z()) / p_.plunge_rate + (safe_c_ - h.fed_to) / p_.rapid_rate;
+      return h;
+    });
+  }
+
+ private:
+  // Where an entry to b may start, found once per hop (it does not depend
+  // on where the lift starts): a ramp's start, if one is clear, and the
+  // plunge's.
+  struct Entry {
+    std::optional<gp_Pnt> ramp_from;
+    gp_Pnt plunge_from;
+  };
+
+  Entry entry(const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
+    const double air = p_.air_clearance;
+    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
+    Entry e{std::nullopt, above};
+    if (dir)
+      for (const gp_Pnt& from :
+           {above.Translated(*dir * -air), above.Translated(*dir * (2.0 * air))})
+        if (model_.clear(from, b, cut_)) {
+          e.ramp_from = from;
+          break;
+        }
+    if (n && !model_.clear(above, air_))
+      for (const gp_Vec& out : {*n * air, *n * (2.0 * air), (*n + gp_Vec(0, 0, 1)) * (2.0 * air)})
+        if (model_.clear(b.Translated(out), air_)) {
+          e.plunge_from = b.Translated(out);
+          break;
+        }
+    return e;
+  }
+
+  // The hop from a, lifting straight up, with the faster of the entries.
+  Hop plan_entry(const gp_Pnt* a, const gp_Pnt& b, const Entry& e) const {
+    std::optional<Hop> ramp;
+    if (e.ramp_from) {
+      ramp = plan_from(a, b, *e.ramp_from, true);
+      if (ramp->ramp && ramp->approach.Z() - b.Z() <= 2.0 * p_.air_clearance) return *ramp;
+    }
+    const Hop plunge = plan_from(a, b, e.plunge_from, false);
+    return ramp && ramp->time < plunge.time ? *ramp : plunge;
+  }
+
+  // rest(from): the hop on from a lift starting at `from`. Straight up from
+  // a, or, where part of that lift is fed and a move out is faster, first
+  // fed out of a (see plan()).
+  template <class Rest>
+  Hop leave_and(const gp_Pnt* a, const gp_Vec* a_n, const gp_Vec* a_dir, Rest rest) const {
+    Hop best = rest(a);
     const double air = p_.air_clearance;
     // A move out is fed at least air_clearance: only a longer fed lift can
     // be slower.
@@ -148,7 +210,7 @@ class AirMoves {
     if (a_dir) leaves.push_back(a->Translated(*a_dir * (-2.0 * air) + gp_Vec(0, 0, 2.0 * air)));
     for (const gp_Pnt& leave : leaves) {
       if (!model_.clear(*a, leave, cut_)) continue;
-      Hop out = plan_entry(&leave, b, n, dir);
+      Hop out = rest(&leave);
       out.time += a->Distance(leave) / p_.plunge_rate;
       out.leave = leave;
       if (out.time < best.time) best = out;
@@ -156,34 +218,6 @@ class AirMoves {
     return best;
   }
 
- private:
-  // The hop from a, lifting straight up, with the faster of the entries.
-  Hop plan_entry(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
-    const double air = p_.air_clearance;
-    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
-    std::optional<Hop> ramp;
-    if (dir) {
-      const gp_Pnt back = above.Translated(*dir * -air);
-      const gp_Pnt ahead = above.Translated(*dir * (2.0 * air));
-      for (const gp_Pnt& from : {back, ahead}) {
-        if (!model_.clear(from, b, cut_)) continue;
-        ramp = plan_from(a, b, from, true);
-        if (ramp->ramp && ramp->approach.Z() - b.Z() <= 2.0 * air) return *ramp;
-        break;
-      }
-    }
-    gp_Pnt first = above;
-    if (n && !model_.clear(above, air_))
-      for (const gp_Vec& out : {*n * air, *n * (2.0 * air), (*n + gp_Vec(0, 0, 1)) * (2.0 * air)})
-        if (model_.clear(b.Translated(out), air_)) {
-          first = b.Translated(out);
-          break;
-        }
-    const Hop plunge = plan_from(a, b, first, false);
-    return ramp && ramp->time < plunge.time ? *ramp : plunge;
-  }
-
- public:
   // The hop whose fed entry starts at or above `first` (a ramp or a
   // plunge). The move across: the lowest of the heights max(a.z, first.z) +
   // air_clearance x 2^k found clear, else the safe height (which the caller
@@ -267,7 +301,6 @@ class AirMoves {
         .value_or(top);
   }
 
- private:
   static gp_Pnt up(const gp_Pnt& p, double z) { return gp_Pnt(p.X(), p.Y(), z); }
   const IsoParams& p_;
   const ClearanceModel& model_;
@@ -283,14 +316,16 @@ std::optional<gp_Vec> horizontal(const gp_Pnt& a, const gp_Pnt& b) {
   return d.Normalized();
 }
 
-// The horizontal direction a piece starts in, and the one it ends in.
-std::optional<gp_Vec> start_direction(const CutPiece& p) {
-  if (p.pts.size() < 2) return std::nullopt;
-  return horizontal(p.pts[0], p.pts[1]);
-}
+// The horizontal direction a piece ends in, and the one it starts in
+// (traced from its end if `reversed`).
 std::optional<gp_Vec> end_direction(const CutPiece& p) {
   if (p.pts.size() < 2) return std::nullopt;
   return horizontal(p.pts[p.pts.size() - 2], p.pts.back());
+}
+std::optional<gp_Vec> start_direction(const CutPiece& p, bool reversed) {
+  if (p.pts.size() < 2) return std::nullopt;
+  return reversed ? horizontal(p.pts.back(), p.pts[p.pts.size() - 2])
+                  : horizontal(p.pts[0], p.pts[1]);
 }
 
 // The surface normal at the start of a piece, and at its end (none
@@ -306,6 +341,8 @@ std::optional<gp_Vec> end_normal(const CutPiece& p) {
   return p.grid ? normal_at(p, p.t.back()) : p.back_normal;
 }
 
+const gp_Vec* ptr(const std::optional<gp_Vec>& v) { return v ? &*v : nullptr; }
+
 }  // namespace
 
 Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
@@ -319,11 +356,15 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   auto tip = [&](MoveKind k, const gp_Pnt& p) { path.add(k, p.X(), p.Y(), p.Z() - r); };
   // Air moves from the current centre (none: the start) to the first point
   // of p by `h`.
-  auto enter = [&](const CutPiece& p, const Hop& h) {
-    const gp_Pnt& e = h.approach;
+  // The fed part of a lift: out of the pass, then up.
+  auto lift = [&](const Hop& h) {
     if (h.leave) tip(MoveKind::Plunge, *h.leave);
     if (!path.empty() && h.fed_to > path.z.back() + r)
       path.add(MoveKind::Plunge, path.x.back(), path.y.back(), h.fed_to - r);
+  };
+  auto enter = [&](const CutPiece& p, const Hop& h) {
+    const gp_Pnt& e = h.approach;
+    lift(h);
     if (!path.empty() && h.top > path.z.back() + r)
       path.add(MoveKind::Rapid, path.x.back(), path.y.back(), h.top - r);
     path.add(MoveKind::Rapid, e.X(), e.Y(), h.top - r);
@@ -337,12 +378,10 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   std::vector<char> used(pieces.size(), 0);
   std::size_t cur = 0;
   used[0] = 1;
-  const std::optional<gp_Vec> n0 = start_normal(pieces[0]), d0 = start_direction(pieces[0]);
-  enter(pieces[0],
-        air.plan(nullptr, pieces[0].pts.front(), n0 ? &*n0 : nullptr, d0 ? &*d0 : nullptr));
+  enter(pieces[0], air.plan(nullptr, pieces[0].pts.front(), ptr(start_normal(pieces[0])),
+                            ptr(start_direction(pieces[0], false))));
   cut(pieces[0]);
   std::vector<Candidate> cands;
-  std::optional<gp_Vec> n_next, d_next;
   const std::size_t batch = params.threads > 0
                                 ? std::size_t(params.threads)
                                 : std::max<std::size_t>(1, std::thread::hardware_concurrency());
@@ -369,17 +408,12 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
     };
     // A feed link where it is clear and faster than the hop to the nearest
     // piece (a few queries: planned first).
-    {
-      CutPiece& q = pieces[nearest.piece];
-      if (nearest.reversed) q.reverse();
-      n_next = start_normal(q);
-      d_next = start_direction(q);
-      if (nearest.reversed) q.reverse();
-    }
-    const std::optional<gp_Vec> d_end = end_direction(pieces[cur]), n_end = end_normal(pieces[cur]);
+    const CutPiece& q = pieces[nearest.piece];
+    const std::optional<gp_Vec> n_next = nearest.reversed ? end_normal(q) : start_normal(q),
+                                d_next = start_direction(q, nearest.reversed),
+                                n_end = end_normal(pieces[cur]), d_end = end_direction(pieces[cur]);
     const Hop hop =
-        air.plan(&end, start_of(nearest), n_next ? &*n_next : nullptr, d_next ? &*d_next : nullptr,
-                 n_end ? &*n_end : nullptr, d_end ? &*d_end : nullptr);
+        air.plan(&end, start_of(nearest), ptr(n_next), ptr(d_next), ptr(n_end), ptr(d_end));
     // The candidates a link might be faster than the hop to, tried in
     // order, a batch of them (one per thread) at a time: the first clear
     // one in order is taken (or the hop, if it is faster), whatever the
@@ -418,11 +452,8 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
     used[chosen.piece] = 1;
     cur = chosen.piece;
   }
-  {
-    const gp_Pnt last(path.x.back(), path.y.back(), path.z.back() + r);
-    const double fed = air.lift_fed_to(last, safe + r);
-    if (fed > last.Z()) path.add(MoveKind::Plunge, last.X(), last.Y(), fed - r);
-  }
+  const gp_Pnt last(path.x.back(), path.y.back(), path.z.back() + r);
+  lift(air.retract(last, ptr(end_normal(pieces[cur])), ptr(end_direction(pieces[cur]))));
   path.add(MoveKind::Rapid, path.x.back(), path.y.back(), safe);
   return path;
 }
