@@ -264,5 +264,22 @@ TEST(ConstantScallop, VanishingStripWidthEndsInAWarning) {
   EXPECT_GT(out.paths, 3.0 / (0.02 * flat));  // the narrow half at the minimum spacing
 }
 
+TEST(ConstantScallop, OneAndManyThreadsGiveTheSamePathOnOneFace) {
+  // One face: its paths are cut, and its reach border probed, on the
+  // threads (constant_scallop.cpp, cut_face()); MAT leaves ground the ball
+  // does not reach from above, so the border adds paths.
+  const TopoDS_Shape s = test::load("MAT.brep");
+  IsoParams p = scallop_params(3.0, 0.05);
+  p.safe_z = 400;
+  p.threads = 1;
+  const IsoResult one = adaptive_isocurve(s, {0}, p);
+  p.threads = 3;
+  const IsoResult three = adaptive_isocurve(s, {0}, p);
+  EXPECT_GT(one.metrics.unreachable_length, 0.0);
+  EXPECT_TRUE(test::same_path(one.path, three.path));
+  EXPECT_EQ(one.metrics.guaranteed_scallop, three.metrics.guaranteed_scallop);
+  EXPECT_DOUBLE_EQ(one.metrics.unreachable_length, three.metrics.unreachable_length);
+}
+
 }  // namespace
 }  // namespace isocam

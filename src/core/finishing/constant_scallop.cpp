@@ -245,7 +245,7 @@ class PieceCutter {
   // `kept` receives the contact polyline of each piece kept: what the ball
   // cuts, inside the wires and where it is clear and reached from above.
   void cut(const FrontPiece& pc, std::vector<CutPiece>* out, int* curves, double* unreachable,
-           double* from_above, PathIndex* kept) const {
+           double* from_above, std::vector<FrontPiece>* kept) const {
     for (const auto& [a, b] : clip_.inside_runs(pc)) {
       std::vector<gp_Pnt> pts;
       std::vector<double> ts;
@@ -270,7 +270,7 @@ class PieceCutter {
         length += piece.length();
         piece.front_normal = normal(uv_at(pc, piece.t.front()));
         piece.back_normal = normal(uv_at(pc, piece.t.back()));
-        kept->add(clip_.contact(pc, piece.t.front(), piece.t.back()));
+        kept->push_back(clip_.contact(pc, piece.t.front(), piece.t.back()));
         out->push_back(std::move(piece));
       }
       *unreachable += full - length;
@@ -405,41 +405,102 @@ class ReachBorder {
         e_(e),
         flat_(stepover_for_scallop(r_, h_)),
         kept_(kept),
+        added_(flat_),
         out_(out) {}
 
-  void fill() {
+  // The samples' queries against the model and the pieces kept so far
+  // are made first, on `threads` threads (Probe); then the samples are
+  // taken in order as before, each gap corrected for the paths the samples
+  // before it added (Probe::gap), so the result is the one of taking them
+  // one by one, whatever the number of threads.
+  void fill(int threads, const ProgressSlice& progress) {
     o_->gap = o_->gap_scallop = 0.0;
-    samples_.for_each([&](double u, double v) {
-      const Gap q = gap_at(g_, *kept_, u, v);
-      if (!over(q)) return certify(q);
-      if (cutter_.reached(u, v)) return cover(u, v);
-      // Towards the neighbours a sampling step away.
-      const SurfaceDerivs d = g_.d1(u, v);
-      const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
-      const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
-      for (int a = -1; a <= 1; ++a)
-        for (int b = -1; b <= 1; ++b) {
-          if (a == 0 && b == 0) continue;
-          const double u1 = std::clamp(u + a * du, g_.umin(), g_.umax());
-          const double v1 = std::clamp(v + b * dv, g_.vmin(), g_.vmax());
-          if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
-          // (u0, v0) not reached, (u1, v1) reached: 6 halvings, to 1/64.
-          double s0 = 0.0, s1 = 1.0;
-          for (int k = 0; k < 6; ++k) {
-            const double m = 0.5 * (s0 + s1);
-            (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
-          }
-          const double ub = u + s1 * (u1 - u), vb = v + s1 * (v1 - v);
-          const Gap qb = gap_at(g_, *kept_, ub, vb);
-          if (over(qb))
-            cover(ub, vb);
-          else
-            certify(qb);
-        }
+    std::vector<ParamPt> at;
+    samples_.for_each([&](double u, double v) { at.push_back({u, v}); });
+    std::vector<Probe> probes(at.size());
+    constexpr std::size_t kBlock = 256;
+    for_each_index((at.size() + kBlock - 1) / kBlock, threads, [&](std::size_t b) {
+      progress.check();
+      for (std::size_t k = b * kBlock; k < std::min(at.size(), (b + 1) * kBlock); ++k)
+        probes[k] = probe(at[k].u, at[k].v);
     });
+    for (std::size_t k = 0; k < at.size(); ++k) {
+      const Probe& pr = probes[k];
+      const double u = at[k].u, v = at[k].v;
+      const Gap q = gap(u, v, pr.gap);
+      if (!over(q)) {
+        certify(q);
+        continue;
+      }
+      if (pr.over ? pr.reached : cutter_.reached(u, v)) {
+        cover(u, v);
+        continue;
+      }
+      for (const Border& b : pr.over ? pr.border : border(u, v)) {
+        const Gap qb = gap(b.uv.u, b.uv.v, b.gap);
+        if (over(qb))
+          cover(b.uv.u, b.uv.v);
+        else
+          certify(qb);
+      }
+    }
   }
 
  private:
+  // Where the reach ends between an unreached sample and a neighbour
+  // reached, with its gap to the pieces kept before (Probe).
+  struct Border {
+    ParamPt uv;
+    Gap gap;
+  };
+  // A sample's gap to the pieces kept before fill(); where that is over,
+  // whether the ball reaches it, and if not, the border points towards
+  // its neighbours.
+  struct Probe {
+    Gap gap;
+    bool over = false, reached = false;
+    std::vector<Border> border;
+  };
+  Probe probe(double u, double v) const {
+    Probe pr;
+    pr.gap = gap_at(g_, *kept_, u, v);
+    pr.over = over(pr.gap);
+    if (!pr.over) return pr;
+    pr.reached = cutter_.reached(u, v);
+    if (!pr.reached) pr.border = border(u, v);
+    return pr;
+  }
+  // Towards the neighbours a sampling step away that the ball reaches, the
+  // border bisected (6 halvings, to 1/64 of the step).
+  std::vector<Border> border(double u, double v) const {
+    std::vector<Border> out;
+    const SurfaceDerivs d = g_.d1(u, v);
+    const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
+    const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
+    for (int a = -1; a <= 1; ++a)
+      for (int b = -1; b <= 1; ++b) {
+        if (a == 0 && b == 0) continue;
+        const double u1 = std::clamp(u + a * du, g_.umin(), g_.umax());
+        const double v1 = std::clamp(v + b * dv, g_.vmin(), g_.vmax());
+        if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
+        double s0 = 0.0, s1 = 1.0;
+        for (int k = 0; k < 6; ++k) {
+          const double m = 0.5 * (s0 + s1);
+          (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
+        }
+        const ParamPt b_uv{u + s1 * (u1 - u), v + s1 * (v1 - v)};
+        out.push_back({b_uv, gap_at(g_, *kept_, b_uv.u, b_uv.v)});
+      }
+    return out;
+  }
+  // The gap at (u, v) to every piece kept now, from `before` (to the
+  // pieces kept before fill()): measured again only where a piece added
+  // since is nearer.
+  Gap gap(double u, double v, const Gap& before) const {
+    if (!added_any_ || !(added_.distance(g_.eval(u, v)) < before.d)) return before;
+    return gap_at(g_, *kept_, u, v);
+  }
+
   bool over(const Gap& q) const { return left_over(q, r_, h_, e_); }
   // A path through (u, v), reached, then its cusp certified. What the cut
   // leaves over h beside a reach border is mostly a spot at the end of a
@@ -463,7 +524,13 @@ class ReachBorder {
   void cut_seed(const FrontPiece& pc) {
     if (pc.size() < 2) return;
     double not_needed = 0.0, not_needed_from_above = 0.0;
-    cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, kept_);
+    std::vector<FrontPiece> contact;
+    cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, &contact);
+    for (const FrontPiece& c : contact) {
+      kept_->add(c);
+      added_.add(c);
+      added_any_ = true;
+    }
   }
   // The cusp a sample's gap `q` to the pieces kept leaves, into the
   // certificate.
@@ -479,34 +546,49 @@ class ReachBorder {
   const PieceCutter& cutter_;
   double r_, h_, e_, flat_;
   PathIndex* kept_;
+  PathIndex added_;  // the pieces cover() added
+  bool added_any_ = false;
   FaceCut* out_;
 };
 
 // Phase 3: a face's paths clipped, offset, cut for clearance, zig-zag; and
 // its certificate measured again on the pieces kept, with paths added where
-// the cut left ground beside it (ReachBorder).
+// the cut left ground beside it (ReachBorder). The paths are cut on
+// `threads` threads, each path's pieces kept at its index and merged in
+// order.
 FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
-                 const ClearanceModel& model, double e, const ProgressSlice& all) {
+                 const ClearanceModel& model, double e, int threads, const ProgressSlice& all) {
   FaceCut out;
   const bool transposed = o->dir == IsoDirection::U;
   const PieceCutter cutter(*o->grid, *face.trim, transposed, params, model);
   const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
-  PathIndex kept(flat);
-  for (std::size_t i = 0; i < o->paths.paths.size(); ++i) {
+  struct PathCut {
+    FaceCut cut;
+    std::vector<FrontPiece> contact;
+  };
+  std::vector<PathCut> per(o->paths.paths.size());
+  for_each_index(per.size(), threads, [&](std::size_t i) {
     all.check();
-    std::vector<CutPiece> pieces;
+    FaceCut& c = per[i].cut;
     for (const FrontPiece& pc : o->paths.paths[i])
-      cutter.cut(pc, &pieces, &out.curves, &out.unreachable, &out.from_above, &kept);
+      cutter.cut(pc, &c.pieces, &c.curves, &c.unreachable, &c.from_above, &per[i].contact);
     if (i % 2 == 1) {  // zig-zag
-      std::reverse(pieces.begin(), pieces.end());
-      for (CutPiece& pc : pieces) pc.reverse();
+      std::reverse(c.pieces.begin(), c.pieces.end());
+      for (CutPiece& pc : c.pieces) pc.reverse();
     }
-    std::move(pieces.begin(), pieces.end(), std::back_inserter(out.pieces));
+  });
+  PathIndex kept(flat);
+  for (PathCut& pc : per) {
+    for (const FrontPiece& k : pc.contact) kept.add(k);
+    std::move(pc.cut.pieces.begin(), pc.cut.pieces.end(), std::back_inserter(out.pieces));
+    out.curves += pc.cut.curves;
+    out.unreachable += pc.cut.unreachable;
+    out.from_above += pc.cut.from_above;
   }
   all.check();
   const FaceSampling samples(*o->grid, *face.trim, transposed, ReachBorder::kStep * flat,
                              params.ball_radius, params.scallop_height, e);
-  ReachBorder(o, samples, cutter, params, e, &kept, &out).fill();
+  ReachBorder(o, samples, cutter, params, e, &kept, &out).fill(threads, all);
   return out;
 }
 
@@ -560,11 +642,15 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
       choose(plan_faces(faces, dirs, width, params, e, all), dirs.size(), params.scallop_height,
              stepover_for_scallop(params.ball_radius, params.scallop_height), &out.warnings);
   std::vector<FaceCut> cut(faces.size());
+  // The faces on the threads, or a single face's paths (not both: threads
+  // within threads).
+  const int inner = faces.size() == 1 ? params.threads : 1;
   for_each_index(faces.size(), params.threads, [&](std::size_t f) {
     all.check();
     if (chosen[f].failed) return;
-    chosen[f].failed = face_failure(
-        faces[f].index, [&] { cut[f] = cut_face(&chosen[f], faces[f], params, model, e, all); });
+    chosen[f].failed = face_failure(faces[f].index, [&] {
+      cut[f] = cut_face(&chosen[f], faces[f], params, model, e, inner, all);
+    });
   });
   all.report(0.95);
   for (std::size_t f = 0; f < faces.size(); ++f)
