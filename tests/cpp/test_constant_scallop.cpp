@@ -265,9 +265,9 @@ TEST(ConstantScallop, VanishingStripWidthEndsInAWarning) {
 }
 
 TEST(ConstantScallop, OneAndManyThreadsGiveTheSamePathOnOneFace) {
-  // One face: its paths are cut, and its reach border probed, on the
-  // threads (constant_scallop.cpp, cut_face()); MAT leaves ground the ball
-  // does not reach from above, so the border adds paths.
+  // One face: its paths are cut on the threads (constant_scallop.cpp,
+  // cut_face()); MAT leaves ground the ball does not reach from above, so
+  // the reach border adds paths after them.
   const TopoDS_Shape s = test::load("MAT.brep");
   IsoParams p = scallop_params(3.0, 0.05);
   p.safe_z = 400;

@@ -405,102 +405,41 @@ class ReachBorder {
         e_(e),
         flat_(stepover_for_scallop(r_, h_)),
         kept_(kept),
-        added_(flat_),
         out_(out) {}
 
-  // The samples' queries against the model and the pieces kept so far
-  // are made first, on `threads` threads (Probe); then the samples are
-  // taken in order as before, each gap corrected for the paths the samples
-  // before it added (Probe::gap), so the result is the one of taking them
-  // one by one, whatever the number of threads.
-  void fill(int threads, const ProgressSlice& progress) {
+  void fill() {
     o_->gap = o_->gap_scallop = 0.0;
-    std::vector<ParamPt> at;
-    samples_.for_each([&](double u, double v) { at.push_back({u, v}); });
-    std::vector<Probe> probes(at.size());
-    constexpr std::size_t kBlock = 256;
-    for_each_index((at.size() + kBlock - 1) / kBlock, threads, [&](std::size_t b) {
-      progress.check();
-      for (std::size_t k = b * kBlock; k < std::min(at.size(), (b + 1) * kBlock); ++k)
-        probes[k] = probe(at[k].u, at[k].v);
+    samples_.for_each([&](double u, double v) {
+      const Gap q = gap_at(g_, *kept_, u, v);
+      if (!over(q)) return certify(q);
+      if (cutter_.reached(u, v)) return cover(u, v);
+      // Towards the neighbours a sampling step away.
+      const SurfaceDerivs d = g_.d1(u, v);
+      const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
+      const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b) {
+          if (a == 0 && b == 0) continue;
+          const double u1 = std::clamp(u + a * du, g_.umin(), g_.umax());
+          const double v1 = std::clamp(v + b * dv, g_.vmin(), g_.vmax());
+          if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
+          // (u0, v0) not reached, (u1, v1) reached: 6 halvings, to 1/64.
+          double s0 = 0.0, s1 = 1.0;
+          for (int k = 0; k < 6; ++k) {
+            const double m = 0.5 * (s0 + s1);
+            (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
+          }
+          const double ub = u + s1 * (u1 - u), vb = v + s1 * (v1 - v);
+          const Gap qb = gap_at(g_, *kept_, ub, vb);
+          if (over(qb))
+            cover(ub, vb);
+          else
+            certify(qb);
+        }
     });
-    for (std::size_t k = 0; k < at.size(); ++k) {
-      const Probe& pr = probes[k];
-      const double u = at[k].u, v = at[k].v;
-      const Gap q = gap(u, v, pr.gap);
-      if (!over(q)) {
-        certify(q);
-        continue;
-      }
-      if (pr.over ? pr.reached : cutter_.reached(u, v)) {
-        cover(u, v);
-        continue;
-      }
-      for (const Border& b : pr.over ? pr.border : border(u, v)) {
-        const Gap qb = gap(b.uv.u, b.uv.v, b.gap);
-        if (over(qb))
-          cover(b.uv.u, b.uv.v);
-        else
-          certify(qb);
-      }
-    }
   }
 
  private:
-  // Where the reach ends between an unreached sample and a neighbour
-  // reached, with its gap to the pieces kept before (Probe).
-  struct Border {
-    ParamPt uv;
-    Gap gap;
-  };
-  // A sample's gap to the pieces kept before fill(); where that is over,
-  // whether the ball reaches it, and if not, the border points towards
-  // its neighbours.
-  struct Probe {
-    Gap gap;
-    bool over = false, reached = false;
-    std::vector<Border> border;
-  };
-  Probe probe(double u, double v) const {
-    Probe pr;
-    pr.gap = gap_at(g_, *kept_, u, v);
-    pr.over = over(pr.gap);
-    if (!pr.over) return pr;
-    pr.reached = cutter_.reached(u, v);
-    if (!pr.reached) pr.border = border(u, v);
-    return pr;
-  }
-  // Towards the neighbours a sampling step away that the ball reaches, the
-  // border bisected (6 halvings, to 1/64 of the step).
-  std::vector<Border> border(double u, double v) const {
-    std::vector<Border> out;
-    const SurfaceDerivs d = g_.d1(u, v);
-    const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
-    const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
-    for (int a = -1; a <= 1; ++a)
-      for (int b = -1; b <= 1; ++b) {
-        if (a == 0 && b == 0) continue;
-        const double u1 = std::clamp(u + a * du, g_.umin(), g_.umax());
-        const double v1 = std::clamp(v + b * dv, g_.vmin(), g_.vmax());
-        if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
-        double s0 = 0.0, s1 = 1.0;
-        for (int k = 0; k < 6; ++k) {
-          const double m = 0.5 * (s0 + s1);
-          (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
-        }
-        const ParamPt b_uv{u + s1 * (u1 - u), v + s1 * (v1 - v)};
-        out.push_back({b_uv, gap_at(g_, *kept_, b_uv.u, b_uv.v)});
-      }
-    return out;
-  }
-  // The gap at (u, v) to every piece kept now, from `before` (to the
-  // pieces kept before fill()): measured again only where a piece added
-  // since is nearer.
-  Gap gap(double u, double v, const Gap& before) const {
-    if (!added_any_ || !(added_.distance(g_.eval(u, v)) < before.d)) return before;
-    return gap_at(g_, *kept_, u, v);
-  }
-
   bool over(const Gap& q) const { return left_over(q, r_, h_, e_); }
   // A path through (u, v), reached, then its cusp certified. What the cut
   // leaves over h beside a reach border is mostly a spot at the end of a
@@ -526,11 +465,7 @@ class ReachBorder {
     double not_needed = 0.0, not_needed_from_above = 0.0;
     std::vector<FrontPiece> contact;
     cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, &contact);
-    for (const FrontPiece& c : contact) {
-      kept_->add(c);
-      added_.add(c);
-      added_any_ = true;
-    }
+    for (const FrontPiece& c : contact) kept_->add(c);
   }
   // The cusp a sample's gap `q` to the pieces kept leaves, into the
   // certificate.
@@ -546,8 +481,6 @@ class ReachBorder {
   const PieceCutter& cutter_;
   double r_, h_, e_, flat_;
   PathIndex* kept_;
-  PathIndex added_;  // the pieces cover() added
-  bool added_any_ = false;
   FaceCut* out_;
 };
 
@@ -588,7 +521,7 @@ FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
   all.check();
   const FaceSampling samples(*o->grid, *face.trim, transposed, ReachBorder::kStep * flat,
                              params.ball_radius, params.scallop_height, e);
-  ReachBorder(o, samples, cutter, params, e, &kept, &out).fill(threads, all);
+  ReachBorder(o, samples, cutter, params, e, &kept, &out).fill();
   return out;
 }
 
