@@ -17,6 +17,7 @@
 #include "support/checks.h"
 #include "support/expected.h"
 #include "support/models.h"
+#include "support/same_path.h"
 
 namespace isocam {
 namespace {

@@ -14,6 +14,7 @@
 #include "isocam/errors.h"
 #include "support/checks.h"
 #include "support/models.h"
+#include "support/same_path.h"
 
 namespace isocam {
 namespace {

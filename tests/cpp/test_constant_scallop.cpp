@@ -24,6 +24,7 @@
 #include "isocam/brep_io.h"
 #include "support/checks.h"
 #include "support/models.h"
+#include "support/same_path.h"
 
 namespace isocam {
 namespace {

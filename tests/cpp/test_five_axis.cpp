@@ -25,7 +25,7 @@
 #include "geometry/patch_grid.h"
 #include "isocam/errors.h"
 #include "isocam/five_axis.h"
-#include "support/checks.h"
+#include "support/same_path.h"
 
 namespace isocam {
 namespace {

@@ -2,8 +2,6 @@
 // sense of Definition 1, no gouge, and that the path really cuts the curves.
 #pragma once
 
-#include <gtest/gtest.h>
-
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
 #include <TopoDS_Face.hxx>
@@ -19,10 +17,6 @@
 class BRepTopAdaptor_FClass2d;
 
 namespace isocam::test {
-
-// Whether two toolpaths are the same move for move, bit for bit (kind and
-// end point); the failure names the first move that differs.
-::testing::AssertionResult same_path(const Toolpath& a, const Toolpath& b);
 
 // Nearest distance from a point to a set of segments, by a uniform hash grid.
 class SegmentIndex {
