@@ -6,7 +6,9 @@
 // crosses an iso-line of the grid: where the core decides by the winding
 // number of the p-curves' Bezier spans, the one place it can go wrong; and
 // points on the sides of the faces' parameter rectangles, on the boundary
-// where a side bounds the face (contains() counts the boundary in).
+// where a side bounds the face (contains() counts the boundary in). Each
+// point is asked of contains() and of contains_uncached() (which skips the
+// cache of answers).
 #include <gtest/gtest.h>
 
 #include <BRepClass_FaceClassifier.hxx>
@@ -41,7 +43,8 @@ void check_point(const TopoDS_Face& face, const PatchGrid& grid, const TrimDomai
   const TopAbs_State ref = reference(face, grid, u, v);
   if (ref == TopAbs_ON) return;
   ++t->checked;
-  if (trim.contains(u, v) != (ref == TopAbs_IN)) {
+  const bool in = ref == TopAbs_IN;
+  if (trim.contains(u, v) != in || trim.contains_uncached(u, v) != in) {
     if (t->wrong++ == 0)
       t->first_wrong = "face " + std::to_string(trim.face_label()) + " at (" + std::to_string(u) +
                        ", " + std::to_string(v) + ")";
@@ -75,7 +78,7 @@ Tally check_model(const std::vector<TopoDS_Face>& faces, int points_per_face, in
         continue;
       }
       ++t.on_boundary;
-      if (!trim.contains(u, v) && t.wrong++ == 0)
+      if ((!trim.contains(u, v) || !trim.contains_uncached(u, v)) && t.wrong++ == 0)
         t.first_wrong = "face " + std::to_string(i) + " on its boundary at (" + std::to_string(u) +
                         ", " + std::to_string(v) + ")";
     }

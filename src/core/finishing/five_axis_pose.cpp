@@ -115,7 +115,7 @@ class Poser {
   }
 
   bool inside(const ParamPt& q) const {
-    return transposed_ ? trim_.contains(q.v, q.u) : trim_.contains(q.u, q.v);
+    return transposed_ ? trim_.contains_uncached(q.v, q.u) : trim_.contains_uncached(q.u, q.v);
   }
   double depth(const Posed& x) const {
     return tool_depth(g_, x.uv, x.pose, job_.tool, [this](const ParamPt& q) { return inside(q); });
@@ -240,8 +240,8 @@ class Poser {
   // the exact check's Newton from uv on it.
   double other_depth(const Face& f, const ParamPt& uv, const ToolPose& x) const {
     return signed_tool_depth(
-        f.grid, uv, x, job_.tool, [&f](const ParamPt& q) { return f.trim->contains(q.u, q.v); },
-        true);
+        f.grid, uv, x, job_.tool,
+        [&f](const ParamPt& q) { return f.trim->contains_uncached(q.u, q.v); }, true);
   }
   // The move from a to b (signed depths da, db in f) keeps the cutting end
   // within the gouge tolerance of f: no point of the tool moves more than

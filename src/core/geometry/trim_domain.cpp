@@ -487,7 +487,8 @@ std::size_t TrimDomain::RectHash::operator()(const RectKey& k) const {
 }
 
 template <class Decide>
-int TrimDomain::cached(const RectKey& key, Decide decide) const {
+int TrimDomain::cached(bool use, const RectKey& key, Decide decide) const {
+  if (!use) return decide();
   CacheShard& shard = (*cache_)[RectHash()(key) % kCacheShards];
   {
     const std::lock_guard<std::mutex> guard(shard.lock);
@@ -501,7 +502,8 @@ int TrimDomain::cached(const RectKey& key, Decide decide) const {
   return answer;
 }
 
-TrimDomain::RectClass TrimDomain::classify_rect(double u0, double u1, double v0, double v1) const {
+TrimDomain::RectClass TrimDomain::classify_rect(double u0, double u1, double v0, double v1,
+                                                bool cache) const {
   double lo[2] = {face_approx(0, u0), face_approx(1, v0)};
   double hi[2] = {face_approx(0, u1), face_approx(1, v1)};
   for (int d = 0; d < 2; ++d) {
@@ -522,7 +524,7 @@ TrimDomain::RectClass TrimDomain::classify_rect(double u0, double u1, double v0,
   // which its centre tells.
   // The cache keeps ints (contains() stores 0/1 there): the RectClass
   // values.
-  return static_cast<RectClass>(cached({{u0, u1, v0, v1}, 0}, [&] {
+  return static_cast<RectClass>(cached(cache, {{u0, u1, v0, v1}, 0}, [&] {
     if (curves_meet(lo, hi) != 1) return static_cast<int>(RectClass::Boundary);
     return static_cast<int>(rect_class(point_state(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]))));
   }));
@@ -628,12 +630,12 @@ bool TrimDomain::hatch(bool iso_v, double f, double t0, double t1,
   return ok;
 }
 
-bool TrimDomain::contains(double u, double v) const {
-  const RectClass quick = classify_rect(u, u, v, v);
+bool TrimDomain::contains(double u, double v, bool cache) const {
+  const RectClass quick = classify_rect(u, u, v, v, cache);
   if (quick != RectClass::Boundary) return quick == RectClass::Inside;
   // On the boundary to within rounding: the classifier, at the exact face
   // parameters.
-  return cached({{u, u, v, v}, 1}, [&] {
+  return cached(cache, {{u, u, v, v}, 1}, [&] {
            return point_state(to_face(0, u), to_face(1, v)) != TopAbs_OUT ? 1 : 0;
          }) > 0;
 }
