@@ -8,6 +8,9 @@
 #include <cmath>
 #include <iterator>
 #include <memory>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "finishing/face_failure.h"
 #include "finishing/scallop_coverage.h"
@@ -484,32 +487,33 @@ class ReachBorder {
   FaceCut* out_;
 };
 
-// Phase 3: a face's paths clipped, offset, cut for clearance, zig-zag; and
-// its certificate measured again on the pieces kept, with paths added where
-// the cut left ground beside it (ReachBorder). The paths are cut on
-// `threads` threads, each path's pieces kept at its index and merged in
-// order.
-FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
-                 const ClearanceModel& model, double e, int threads, const ProgressSlice& all) {
+// Phase 3a: one path of a face clipped, offset, cut for clearance (every
+// other path's pieces run back: zig-zag), with the contact polylines of the
+// pieces kept. A path's cut depends on it alone.
+struct PathCut {
+  FaceCut cut;
+  std::vector<FrontPiece> contact;
+};
+
+PathCut cut_path(const PieceCutter& cutter, const Path& path, std::size_t i) {
+  PathCut out;
+  FaceCut& c = out.cut;
+  for (const FrontPiece& pc : path)
+    cutter.cut(pc, &c.pieces, &c.curves, &c.unreachable, &c.from_above, &out.contact);
+  if (i % 2 == 1) {
+    std::reverse(c.pieces.begin(), c.pieces.end());
+    for (CutPiece& pc : c.pieces) pc.reverse();
+  }
+  return out;
+}
+
+// Phase 3b: a face's paths' cuts merged in order, and its certificate
+// measured again on the pieces kept, with paths added where the cut left
+// ground beside it (ReachBorder).
+FaceCut finish_cut(FaceOut* o, const ScallopFace& face, const PieceCutter& cutter,
+                   std::vector<PathCut> per, const IsoParams& params, double e) {
   FaceCut out;
-  const bool transposed = o->dir == IsoDirection::U;
-  const PieceCutter cutter(*o->grid, *face.trim, transposed, params, model);
   const double flat = stepover_for_scallop(params.ball_radius, params.scallop_height);
-  struct PathCut {
-    FaceCut cut;
-    std::vector<FrontPiece> contact;
-  };
-  std::vector<PathCut> per(o->paths.paths.size());
-  for_each_index(per.size(), threads, [&](std::size_t i) {
-    all.check();
-    FaceCut& c = per[i].cut;
-    for (const FrontPiece& pc : o->paths.paths[i])
-      cutter.cut(pc, &c.pieces, &c.curves, &c.unreachable, &c.from_above, &per[i].contact);
-    if (i % 2 == 1) {  // zig-zag
-      std::reverse(c.pieces.begin(), c.pieces.end());
-      for (CutPiece& pc : c.pieces) pc.reverse();
-    }
-  });
   PathIndex kept(flat);
   for (PathCut& pc : per) {
     for (const FrontPiece& k : pc.contact) kept.add(k);
@@ -518,11 +522,50 @@ FaceCut cut_face(FaceOut* o, const ScallopFace& face, const IsoParams& params,
     out.unreachable += pc.cut.unreachable;
     out.from_above += pc.cut.from_above;
   }
-  all.check();
-  const FaceSampling samples(*o->grid, *face.trim, transposed, ReachBorder::kStep * flat,
-                             params.ball_radius, params.scallop_height, e);
+  const FaceSampling samples(*o->grid, *face.trim, o->dir == IsoDirection::U,
+                             ReachBorder::kStep * flat, params.ball_radius, params.scallop_height,
+                             e);
   ReachBorder(o, samples, cutter, params, e, &kept, &out).fill();
   return out;
+}
+
+// Phase 3: every face's paths cut as one list of tasks on the threads (so a
+// large face among small ones is shared out too), then each face's reach
+// border, the faces on the threads. A face fails with the first of its
+// paths that failed.
+std::vector<FaceCut> cut_faces(std::vector<FaceOut>* chosen, const std::vector<ScallopFace>& faces,
+                               const IsoParams& params, const ClearanceModel& model, double e,
+                               const ProgressSlice& all) {
+  std::vector<FaceOut>& c = *chosen;
+  std::vector<std::optional<PieceCutter>> cutters(faces.size());
+  std::vector<std::vector<PathCut>> per(faces.size());
+  std::vector<std::pair<std::size_t, std::size_t>> tasks;  // (face, path)
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (c[f].failed) continue;
+    cutters[f].emplace(*c[f].grid, *faces[f].trim, c[f].dir == IsoDirection::U, params, model);
+    per[f].resize(c[f].paths.paths.size());
+    for (std::size_t i = 0; i < per[f].size(); ++i) tasks.emplace_back(f, i);
+  }
+  std::vector<std::optional<std::string>> task_failed(tasks.size());
+  for_each_index(tasks.size(), params.threads, [&](std::size_t k) {
+    all.check();
+    const auto [f, i] = tasks[k];
+    task_failed[k] = face_failure(
+        faces[f].index, [&] { per[f][i] = cut_path(*cutters[f], c[f].paths.paths[i], i); });
+  });
+  for (std::size_t k = 0; k < tasks.size(); ++k) {
+    std::optional<std::string>& failed = c[tasks[k].first].failed;
+    if (task_failed[k] && !failed) failed = std::move(task_failed[k]);
+  }
+  std::vector<FaceCut> cut(faces.size());
+  for_each_index(faces.size(), params.threads, [&](std::size_t f) {
+    all.check();
+    if (c[f].failed) return;
+    c[f].failed = face_failure(faces[f].index, [&] {
+      cut[f] = finish_cut(&c[f], faces[f], *cutters[f], std::move(per[f]), params, e);
+    });
+  });
+  return cut;
 }
 
 // Phase 4: one face's part of the result.
@@ -574,17 +617,7 @@ ScallopPieces constant_scallop_pieces(const std::vector<ScallopFace>& faces,
   std::vector<FaceOut> chosen =
       choose(plan_faces(faces, dirs, width, params, e, all), dirs.size(), params.scallop_height,
              stepover_for_scallop(params.ball_radius, params.scallop_height), &out.warnings);
-  std::vector<FaceCut> cut(faces.size());
-  // The faces on the threads, or a single face's paths (not both: threads
-  // within threads).
-  const int inner = faces.size() == 1 ? params.threads : 1;
-  for_each_index(faces.size(), params.threads, [&](std::size_t f) {
-    all.check();
-    if (chosen[f].failed) return;
-    chosen[f].failed = face_failure(faces[f].index, [&] {
-      cut[f] = cut_face(&chosen[f], faces[f], params, model, e, inner, all);
-    });
-  });
+  std::vector<FaceCut> cut = cut_faces(&chosen, faces, params, model, e, all);
   all.report(0.95);
   for (std::size_t f = 0; f < faces.size(); ++f)
     add_face(chosen[f], std::move(cut[f]), faces[f].index, &out);
