@@ -86,20 +86,25 @@ std::optional<double> lowest_clear(const std::vector<double>& tries, std::option
   return std::nullopt;
 }
 
-// The air moves between two ball centres a and b (or from the safe height
-// when a is null): ball centres up, across, down (rapids) to the approach
-// point, then the fed entry from there to b. Times in minutes.
-struct Hop {
+// The lift from a ball centre a to a height (the program's last lift to
+// the safe height; the first part of every hop). Times in minutes.
+struct Lift {
   // Where the lift starts, if not at a: the end of a fed move out of a
   // (along the normal, or back along the pass and up; AirMoves::plan()).
   std::optional<gp_Pnt> leave;
-  double top = 0.0;  // centre height of the move across
+  double top = 0.0;  // centre height it rises to (of the move across, in a hop)
   // The lift from a: fed (at the vertical feed) up to this centre height,
   // from there a rapid; a's own height if the whole lift is a rapid.
   double fed_to = 0.0;
+  double time = 0.0;  // estimated at the rates of the params
+};
+
+// The air moves between two ball centres a and b (or from the safe height
+// when a is null): ball centres up (the lift), across, down (rapids) to the
+// approach point, then the fed entry from there to b.
+struct Hop : Lift {
   gp_Pnt approach;    // where the fed entry starts (the descent's end)
   bool ramp = false;  // the entry is a ramp (at the horizontal feed), not a plunge
-  double time = 0.0;  // estimated at the rates of the params
 };
 
 class AirMoves {
@@ -138,18 +143,17 @@ class AirMoves {
   // up as much, where that move is clear; then up.
   Hop plan(const gp_Pnt* a, const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir,
            const gp_Vec* a_n = nullptr, const gp_Vec* a_dir = nullptr) const {
-    const Entry e = entry(b, n, dir);
-    return leave_and(a, a_n, a_dir, [&](const gp_Pnt* from) { return plan_entry(from, b, e); });
+    Entry e = entry(b, n, dir);
+    return leave_and(a, a_n, a_dir, [&](const gp_Pnt* from) { return plan_entry(from, b, &e); });
   }
 
   // The lift from a at the end of the program, to the safe height (by the
   // same choice of a move out as plan()'s).
-  Hop retract(const gp_Pnt& a, const gp_Vec* a_n, const gp_Vec* a_dir) const {
+  Lift retract(const gp_Pnt& a, const gp_Vec* a_n, const gp_Vec* a_dir) const {
     return leave_and(&a, a_n, a_dir, [&](const gp_Pnt* from) {
-      Hop h;
+      Lift h;
       h.top = safe_c_;
       h.fed_to = lift_fed_to(*from, safe_c_);
-      h.approach = up(*from, safe_c_);
       h.time = (h.fed_to - from->Z()) / p_.plunge_rate + (safe_c_ - h.fed_to) / p_.rapid_rate;
       return h;
     });
@@ -157,17 +161,19 @@ class AirMoves {
 
  private:
   // Where an entry to b may start, found once per hop (it does not depend
-  // on where the lift starts): a ramp's start, if one is clear, and the
-  // plunge's.
+  // on where the lift starts): a ramp's start, if one is clear, found at
+  // once; the plunge's the first time a hop needs it (a ramp fed from low
+  // enough is taken without it).
   struct Entry {
+    const gp_Vec* n;  // the normal at b, if given
     std::optional<gp_Pnt> ramp_from;
-    gp_Pnt plunge_from;
+    std::optional<gp_Pnt> plunge_from;
   };
 
   Entry entry(const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
     const double air = p_.air_clearance;
     const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
-    Entry e{std::nullopt, above};
+    Entry e{n, std::nullopt, std::nullopt};
     if (dir)
       for (const gp_Pnt& from :
            {above.Translated(*dir * -air), above.Translated(*dir * (2.0 * air))})
@@ -175,32 +181,38 @@ class AirMoves {
           e.ramp_from = from;
           break;
         }
-    if (n && !model_.clear(above, air_))
-      for (const gp_Vec& out : {*n * air, *n * (2.0 * air), (*n + gp_Vec(0, 0, 1)) * (2.0 * air)})
-        if (model_.clear(b.Translated(out), air_)) {
-          e.plunge_from = b.Translated(out);
-          break;
-        }
     return e;
   }
 
+  gp_Pnt plunge_from(const gp_Pnt& b, const gp_Vec* n) const {
+    const double air = p_.air_clearance;
+    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
+    if (n && !model_.clear(above, air_))
+      for (const gp_Vec& out : {*n * air, *n * (2.0 * air), (*n + gp_Vec(0, 0, 1)) * (2.0 * air)})
+        if (model_.clear(b.Translated(out), air_)) return b.Translated(out);
+    return above;
+  }
+
   // The hop from a, lifting straight up, with the faster of the entries.
-  Hop plan_entry(const gp_Pnt* a, const gp_Pnt& b, const Entry& e) const {
+  Hop plan_entry(const gp_Pnt* a, const gp_Pnt& b, Entry* e) const {
     std::optional<Hop> ramp;
-    if (e.ramp_from) {
-      ramp = plan_from(a, b, *e.ramp_from, true);
+    if (e->ramp_from) {
+      ramp = plan_from(a, b, *e->ramp_from, true);
       if (ramp->ramp && ramp->approach.Z() - b.Z() <= 2.0 * p_.air_clearance) return *ramp;
     }
-    const Hop plunge = plan_from(a, b, e.plunge_from, false);
+    if (!e->plunge_from) e->plunge_from = plunge_from(b, e->n);
+    const Hop plunge = plan_from(a, b, *e->plunge_from, false);
     return ramp && ramp->time < plunge.time ? *ramp : plunge;
   }
 
   // rest(from): the hop on from a lift starting at `from`. Straight up from
   // a, or, where part of that lift is fed and a move out is faster, first
   // fed out of a (see plan()).
+  // (A Hop or a Lift, as rest() returns.)
   template <class Rest>
-  Hop leave_and(const gp_Pnt* a, const gp_Vec* a_n, const gp_Vec* a_dir, Rest rest) const {
-    Hop best = rest(a);
+  auto leave_and(const gp_Pnt* a, const gp_Vec* a_n, const gp_Vec* a_dir, Rest rest) const
+      -> decltype(rest(a)) {
+    auto best = rest(a);
     const double air = p_.air_clearance;
     // A move out is fed at least air_clearance: only a longer fed lift can
     // be slower.
@@ -210,7 +222,7 @@ class AirMoves {
     if (a_dir) leaves.push_back(a->Translated(*a_dir * (-2.0 * air) + gp_Vec(0, 0, 2.0 * air)));
     for (const gp_Pnt& leave : leaves) {
       if (!model_.clear(*a, leave, cut_)) continue;
-      Hop out = rest(&leave);
+      auto out = rest(&leave);
       out.time += a->Distance(leave) / p_.plunge_rate;
       out.leave = leave;
       if (out.time < best.time) best = out;
@@ -357,7 +369,7 @@ Toolpath link_pieces(std::vector<CutPiece> pieces, const IsoParams& params,
   // Air moves from the current centre (none: the start) to the first point
   // of p by `h`.
   // The fed part of a lift: out of the pass, then up.
-  auto lift = [&](const Hop& h) {
+  auto lift = [&](const Lift& h) {
     if (h.leave) tip(MoveKind::Plunge, *h.leave);
     if (!path.empty() && h.fed_to > path.z.back() + r)
       path.add(MoveKind::Plunge, path.x.back(), path.y.back(), h.fed_to - r);
