@@ -272,8 +272,11 @@ void split_half(const double* c, int n, double* l, double* r) {
 // it meets it, -1 not decided. Its curve lies in the hull of its projected
 // control points (the weights are positive) and passes through the end
 // ones: a hull box that misses proves a miss, an end point inside proves a
-// meet; otherwise the span is split at its middle. `budget` bounds the boxes
-// tested; when it runs out, or after 40 halvings, the answer is -1.
+// meet; otherwise the span is split at its middle. A straight span parallel
+// to an axis is its own hull box: the box decides (a point on the side of
+// a parameter rectangle, where halving would never prove the meet). `budget`
+// bounds the boxes tested; when it runs out, or after 40 halvings, the
+// answer is -1.
 int span_meets(const double* c, int n, const double lo[2], const double hi[2], int depth,
                int* budget) {
   if (--*budget < 0) return -1;
@@ -284,6 +287,7 @@ int span_meets(const double* c, int n, const double lo[2], const double hi[2], i
   double blo[2], bhi[2];
   hull_box(c, n, blo, bhi);
   if (blo[0] > hi[0] || bhi[0] < lo[0] || blo[1] > hi[1] || bhi[1] < lo[1]) return 1;
+  if (n == 1 && (blo[0] == bhi[0] || blo[1] == bhi[1])) return 0;
   if (depth >= 40) return -1;
   double l[3 * (kMaxSpanDegree + 1)], r[3 * (kMaxSpanDegree + 1)];
   split_half(c, n, l, r);
