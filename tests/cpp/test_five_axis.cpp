@@ -2,7 +2,9 @@
 // its closed form on flat ground, the A/C convention and the unwrapped C,
 // the tool posed on a plane (the disc's lowest point on the plane, the axis
 // at the lead angle from the normal, along the feed), arguments refused by
-// name, and the same path on one thread and on several; the bull nose: its
+// name, and the same path on one thread and on several; the nearest point
+// of a surface (the exact check's projection) against a sphere's radial
+// foot and as a stationary point on MAT; the bull nose: its
 // strip against a brute-force Minkowski sum, between the ball's and the
 // flat end's, posed on a plane, and kept off a convex and a concave
 // cylinder by a sampled torus that shares nothing with the core.
@@ -10,7 +12,11 @@
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRep_Builder.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <Geom_BezierSurface.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Face.hxx>
@@ -19,12 +25,14 @@
 #include <gp_Ax3.hxx>
 #include <gp_Cylinder.hxx>
 #include <gp_Pln.hxx>
+#include <random>
 #include <string>
 
 #include "finishing/five_axis_tool.h"
 #include "geometry/patch_grid.h"
 #include "isocam/errors.h"
 #include "isocam/five_axis.h"
+#include "support/models.h"
 #include "support/same_path.h"
 
 namespace isocam {
@@ -137,6 +145,70 @@ TEST(FiveAxis, PosedOnAPlaneAtTheLead) {
   // 12 mm across at the strip width: about 12 / w + 1 passes.
   EXPECT_LE(r.metrics.paths, static_cast<int>(12 / r.metrics.flat_strip_width) + 2);
   EXPECT_EQ(r.metrics.unreachable_length, 0.0);
+}
+
+// The nearest point of a sphere of radius 20 (its rational NURBS form) to
+// a point at distance rho from the centre is the radial one, |rho - 20|
+// away: from a start 3 % of the range off, on both sides, the concave one
+// to within 6 mm of the centre (where a first-order step shrinks the
+// error by only rho / 20 each time).
+TEST(FiveAxis, NearestPointOnASphereIsRadial) {
+  Handle(Geom_SphericalSurface) sphere = new Geom_SphericalSurface(gp_Ax3(), 20.0);
+  Handle(Geom_BSplineSurface) nurbs = GeomConvert::SurfaceToBSplineSurface(
+      new Geom_RectangularTrimmedSurface(sphere, 0.2, 2.9, -1.2, 1.1));
+  const PatchGrid g = PatchGrid::from_face(BRepBuilderAPI_MakeFace(nurbs, 1e-7).Face(), 0);
+  std::mt19937 rng(11);
+  const double du = g.umax() - g.umin(), dv = g.vmax() - g.vmin();
+  std::uniform_real_distribution<double> U(g.umin() + 0.1 * du, g.umax() - 0.1 * du),
+      V(g.vmin() + 0.1 * dv, g.vmax() - 0.1 * dv), rho(6.0, 40.0), off(-0.03, 0.03);
+  for (int k = 0; k < 500; ++k) {
+    const ParamPt uv{U(rng), V(rng)};
+    const gp_Pnt q = g.eval(uv.u, uv.v);
+    const gp_Pnt x(gp_Vec(q.XYZ()).Normalized().XYZ() * rho(rng));
+    ParamPt foot;
+    SurfaceDerivs at;
+    ASSERT_TRUE(nearest_on(g, x, {uv.u + off(rng) * du, uv.v + off(rng) * dv}, &foot, &at)) << k;
+    EXPECT_LT(g.eval(foot.u, foot.v).Distance(q), 1e-7) << k << " rho " << x.Distance(gp::Origin());
+    EXPECT_LT(at.p.Distance(q), 1e-7) << k;
+  }
+}
+
+// On MAT (a bicubic B-spline face with small radii), from points up to 1.5
+// mm off the surface on both sides: the foot found is a stationary point
+// of the distance (x - S at it along the normal, to 1e-8 mm) no farther
+// than the start, or on a side of the parameter rectangle (false).
+TEST(FiveAxis, NearestPointOnMatIsStationary) {
+  const PatchGrid g = PatchGrid::from_face(test::face(test::load("MAT.brep"), 0), 0);
+  std::mt19937 rng(5);
+  const double du = g.umax() - g.umin(), dv = g.vmax() - g.vmin();
+  std::uniform_real_distribution<double> U(g.umin(), g.umax()), V(g.vmin(), g.vmax()), h(-1.5, 1.5),
+      j(-0.5, 0.5);
+  int interior = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const ParamPt uv{U(rng), V(rng)};
+    const SurfaceDerivs d = g.d1(uv.u, uv.v);
+    const gp_Vec n = g.normal(uv.u, uv.v, &d);
+    const gp_Pnt x =
+        d.p.Translated(n * h(rng) + d.su.Normalized() * j(rng) + d.sv.Normalized() * j(rng));
+    ParamPt foot;
+    SurfaceDerivs at;
+    const bool on = nearest_on(g, x, uv, &foot, &at);
+    const gp_Vec r(at.p, x);
+    EXPECT_LE(r.Magnitude(), x.Distance(d.p) + 1e-12) << k;
+    if (!on) {
+      EXPECT_TRUE(foot.u == g.umin() || foot.u == g.umax() || foot.v == g.vmin() ||
+                  foot.v == g.vmax())
+          << k;
+      continue;
+    }
+    ++interior;
+    const gp_Vec m = g.normal(foot.u, foot.v, &at);
+    EXPECT_LT((r - m * r.Dot(m)).Magnitude(), 1e-8)
+        << k << " at " << foot.u << ", " << foot.v << " from " << uv.u << ", " << uv.v;
+  }
+  EXPECT_GT(interior, 3000);
+  (void)du;
+  (void)dv;
 }
 
 TEST(FiveAxis, DepthCountsTheToolUnderAFacesEdge) {

@@ -1,5 +1,5 @@
-// The patch grid's evaluation (PatchGrid::eval, d1) against OpenCASCADE's
-// own (Geom_Surface::D1) on surfaces whose grid parameters are the face's:
+// The patch grid's evaluation (PatchGrid::eval, d1, d2) against
+// OpenCASCADE's own (Geom_Surface::D2) on surfaces whose grid parameters are the face's:
 // MAT's bicubic B-spline, a rational B-spline (a sphere's NURBS form) and
 // Bezier surfaces of degree 5 x 4 and 12 x 11 (each size of buffer the
 // evaluation chooses by degree), over the whole parameter range, span
@@ -24,7 +24,7 @@
 namespace isocam {
 namespace {
 
-// Compares value and first derivatives at a 23 x 19 lattice over the range
+// Compares value, first and second derivatives at a 23 x 19 lattice over the range
 // and at 400 random points, relative to the surface's size.
 void expect_matches_occt(const TopoDS_Face& face, const char* name) {
   const PatchGrid g = PatchGrid::from_face(face, 0);
@@ -34,16 +34,25 @@ void expect_matches_occt(const TopoDS_Face& face, const char* name) {
   int checked = 0;
   auto check = [&](double u, double v) {
     gp_Pnt p;
-    gp_Vec su, sv;
-    s->D1(u, v, p, su, sv);
+    gp_Vec su, sv, suu, svv, suv;
+    s->D2(u, v, p, su, sv, suu, svv, suv);
     const gp_Pnt q = g.eval(u, v);
     const SurfaceDerivs d = g.d1(u, v);
+    const SurfaceDerivs2 d2 = g.d2(u, v);
     EXPECT_LE(q.Distance(p), tol) << name << " eval at " << u << ", " << v;
     EXPECT_LE(d.p.Distance(p), tol) << name << " d1 at " << u << ", " << v;
     // Derivatives scale with the size over the parameter range.
     const double dtol = 1e-9 * (1.0 + su.Magnitude() + sv.Magnitude());
     EXPECT_LE((d.su - su).Magnitude(), dtol) << name << " su at " << u << ", " << v;
     EXPECT_LE((d.sv - sv).Magnitude(), dtol) << name << " sv at " << u << ", " << v;
+    // d2's point and first derivatives are d1's.
+    EXPECT_LE(d2.p.Distance(d.p), tol) << name << " d2 at " << u << ", " << v;
+    EXPECT_LE((d2.su - d.su).Magnitude(), dtol) << name << " d2 su at " << u << ", " << v;
+    EXPECT_LE((d2.sv - d.sv).Magnitude(), dtol) << name << " d2 sv at " << u << ", " << v;
+    const double d2tol = 1e-8 * (1.0 + suu.Magnitude() + suv.Magnitude() + svv.Magnitude());
+    EXPECT_LE((d2.suu - suu).Magnitude(), d2tol) << name << " suu at " << u << ", " << v;
+    EXPECT_LE((d2.suv - suv).Magnitude(), d2tol) << name << " suv at " << u << ", " << v;
+    EXPECT_LE((d2.svv - svv).Magnitude(), d2tol) << name << " svv at " << u << ", " << v;
     ++checked;
   };
   for (int a = 0; a <= 22; ++a)

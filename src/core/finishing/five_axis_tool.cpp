@@ -197,33 +197,110 @@ bool tangent_step(const SurfaceDerivs& d, const gp_Vec& v, double* du, double* d
   *dv = (E * bv - F * bu) / det;
   return true;
 }
+
+// Newton's step is taken where the Hessian of the squared distance is at
+// least kMinCurve times the metric (E, F, G) in every direction; else a
+// multiple of the metric is added to make it so (near a focal point, or
+// beyond one on the concave side), and a step is then at most 1 /
+// kMinCurve times Gauss-Newton's.
+constexpr double kMinCurve = 0.1;
+
+// Newton's step (du, dv) towards the nearest point to x from d (Hessian
+// shifted as kMinCurve says); false where the metric is singular. The
+// Hessian of |S - x|^2 / 2 is the metric less the second derivatives
+// dotted with r = x - S.
+bool newton_step(const SurfaceDerivs2& d, const gp_Vec& r, double* du, double* dv) {
+  const double E = d.su.Dot(d.su), F = d.su.Dot(d.sv), G = d.sv.Dot(d.sv);
+  const double m = E * G - F * F;
+  if (!(m > 1e-300)) return false;
+  double a = E - d.suu.Dot(r), b = F - d.suv.Dot(r), c = G - d.svv.Dot(r);
+  // The smallest lambda with det(H - lambda M) = 0 (M the metric).
+  const double p = a * G + c * E - 2 * b * F, q = a * c - b * b;
+  const double lambda = (p - std::sqrt(std::max(0.0, p * p - 4 * m * q))) / (2 * m);
+  if (lambda < kMinCurve) {
+    const double shift = kMinCurve - lambda;
+    a += shift * E;
+    b += shift * F;
+    c += shift * G;
+  }
+  const double det = a * c - b * b;
+  if (!(det > 1e-300)) return false;
+  const double gu = r.Dot(d.su), gv = r.Dot(d.sv);
+  *du = (c * gu - b * gv) / det;
+  *dv = (a * gv - b * gu) / det;
+  return true;
+}
+
+// The same along one parameter alone (su, suu: its derivatives), the other
+// held on a side of the rectangle.
+double newton_step_1d(const gp_Vec& su, const gp_Vec& suu, const gp_Vec& r) {
+  const double E = su.Dot(su);
+  if (!(E > 1e-300)) return 0.0;
+  return r.Dot(su) / std::max(E - suu.Dot(r), kMinCurve * E);
+}
 }  // namespace
 
 bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot, SurfaceDerivs* at) {
   bool clamped = false;
-  SurfaceDerivs d;
+  SurfaceDerivs2 d;
   ParamPt d_at{};  // where d was evaluated
+  // The last point that lowered the distance, and its squared distance.
+  ParamPt best = uv;
+  double best_f = std::numeric_limits<double>::infinity();
+  const double range = g.umax() - g.umin() + g.vmax() - g.vmin();
   for (int it = 0; it < 12; ++it) {
-    d = g.d1(uv.u, uv.v);
+    d = g.d2(uv.u, uv.v);
     d_at = uv;
+    const gp_Vec r(d.p, x);
+    const double f = r.SquareMagnitude();
+    if (f > best_f + 1e-12 * (1.0 + std::sqrt(best_f))) {
+      // The step overshot (the surface curves away within it): halved.
+      uv = {0.5 * (best.u + uv.u), 0.5 * (best.v + uv.v)};
+      continue;
+    }
+    best = uv;
+    best_f = f;
     double du, dv;
-    if (!tangent_step(d, gp_Vec(d.p, x), &du, &dv)) break;
-    // Converged where the next step would move the point by under 1e-9 mm
-    // (the height at the foot is stationary, so its error is far smaller).
+    if (!tangent_step(d, r, &du, &dv)) break;
+    // Converged where Gauss-Newton's step would move the point by under
+    // 1e-9 mm (the tangential part of x - S: the height at the foot is
+    // stationary, so its error is far smaller).
     if ((d.su * du + d.sv * dv).SquareMagnitude() < 1e-18) {
       clamped = false;
       break;
     }
-    ParamPt nx{std::clamp(uv.u + du, g.umin(), g.umax()),
-               std::clamp(uv.v + dv, g.vmin(), g.vmax())};
-    clamped = nx.u != uv.u + du || nx.v != uv.v + dv;
-    const bool done = std::abs(nx.u - uv.u) + std::abs(nx.v - uv.v) <
-                      1e-13 * (g.umax() - g.umin() + g.vmax() - g.vmin());
+    newton_step(d, r, &du, &dv);
+    // A parameter on a side of the rectangle with the step outwards stays
+    // there, and the other is solved alone.
+    const bool hold_u = (uv.u <= g.umin() && du < 0) || (uv.u >= g.umax() && du > 0);
+    const bool hold_v = (uv.v <= g.vmin() && dv < 0) || (uv.v >= g.vmax() && dv > 0);
+    if (hold_u) {
+      du = 0.0;
+      dv = hold_v ? 0.0 : newton_step_1d(d.sv, d.svv, r);
+    } else if (hold_v) {
+      dv = 0.0;
+      du = newton_step_1d(d.su, d.suu, r);
+    }
+    // A step that would leave the rectangle is shortened to end on its side
+    // (its direction kept: clipping one parameter could turn it uphill).
+    double scale = 1.0;
+    auto fit = [&scale](double from, double step, double lo, double hi) {
+      if (from + scale * step > hi) scale = std::max(0.0, (hi - from) / step);
+      if (from + scale * step < lo) scale = std::max(0.0, (lo - from) / step);
+    };
+    fit(uv.u, du, g.umin(), g.umax());
+    fit(uv.v, dv, g.vmin(), g.vmax());
+    const ParamPt nx{std::clamp(uv.u + scale * du, g.umin(), g.umax()),
+                     std::clamp(uv.v + scale * dv, g.vmin(), g.vmax())};
+    clamped = hold_u || hold_v || scale < 1.0;
+    const bool done = std::abs(nx.u - uv.u) + std::abs(nx.v - uv.v) < 1e-13 * range;
     uv = nx;
     if (done) break;
   }
+  // A last step not evaluated (or one that overshot) is not taken.
+  if (d_at.u != uv.u || d_at.v != uv.v) uv = best;
   *foot = uv;
-  if (at) *at = d_at.u == uv.u && d_at.v == uv.v ? d : g.d1(uv.u, uv.v);
+  if (at) *at = d_at.u == uv.u && d_at.v == uv.v ? static_cast<SurfaceDerivs>(d) : g.d1(uv.u, uv.v);
   return !clamped;
 }
 

@@ -154,9 +154,13 @@ double depth_inside(const gp_Pnt& e, const ToolPose& pose, const Cutter& tool);
 // is convex along the line).
 double depth_below(const PatchGrid& g, const ParamPt& e, const ToolPose& pose, const Cutter& tool);
 
-// Nearest point of g to x by Newton from uv; false if it ends on the
-// rectangle's boundary. `foot` receives its parameters and `at` (if given)
-// the surface's point and derivatives there.
+// Nearest point of g to x by Newton's method on the squared distance from
+// uv (its Hessian kept positive definite, a step that raises the distance
+// halved, a parameter at a side of the rectangle held there while the step
+// points out), until Gauss-Newton's step would move the point by under
+// 1e-9 mm, at most 12 evaluations; false if it ends on the rectangle's
+// boundary. `foot` receives its parameters and `at` (if given) the
+// surface's point and derivatives there.
 bool nearest_on(const PatchGrid& g, const gp_Pnt& x, ParamPt uv, ParamPt* foot,
                 SurfaceDerivs* at = nullptr);
 

@@ -307,17 +307,21 @@ PiecewiseBezier PatchGrid::iso_v(double v) const {
 }
 
 namespace {
-// The Bernstein basis of degree n at t into b[0..n] and its derivative's
-// weights into db[0..n]: sum_k b[k] P_k is the Bezier curve of P_0..P_n at
-// t, sum_k db[k] P_k its derivative in t (n (P_{k+1} - P_k) weighted by the
-// basis of degree n - 1). The basis is built up by the recurrence
-// B_k^j = (1 - t) B_k^{j-1} + t B_{k-1}^{j-1}: convex combinations, as
-// stable as de Casteljau's, without its triangle of points.
+// The Bernstein basis of degree n at t into b[0..n], its derivative's
+// weights into db[0..n] and its second derivative's into d2b[0..n] (each
+// optional): sum_k b[k] P_k is the Bezier curve of P_0..P_n at t, sum_k
+// db[k] P_k its derivative in t (n (P_{k+1} - P_k) weighted by the basis of
+// degree n - 1), sum_k d2b[k] P_k its second (n (n - 1) (P_{k+2} - 2 P_{k+1}
+// + P_k) weighted by the basis of degree n - 2). The basis is built up by
+// the recurrence B_k^j = (1 - t) B_k^{j-1} + t B_{k-1}^{j-1}: convex
+// combinations, as stable as de Casteljau's, without its triangle of
+// points; the derivatives' weights are taken on the way up.
 template <std::size_t N>
-void bernstein(int n, double t, std::array<double, N>* b, std::array<double, N>* db) {
+void bernstein(int n, double t, std::array<double, N>* b, std::array<double, N>* db,
+               std::array<double, N>* d2b = nullptr) {
   auto& B = *b;
-  B[0] = 1.0;
-  for (int j = 1; j < n; ++j) {
+  // B of degree j - 1 raised to degree j.
+  auto raise = [&B, t](int j) {
     double carry = 0.0;
     for (int k = 0; k < j; ++k) {
       const double x = B[static_cast<std::size_t>(k)];
@@ -325,7 +329,18 @@ void bernstein(int n, double t, std::array<double, N>* b, std::array<double, N>*
       carry = t * x;
     }
     B[static_cast<std::size_t>(j)] = carry;
+  };
+  // B[k] of the degree it holds, 0 outside 0..j.
+  auto at = [&B](int k, int j) { return k >= 0 && k <= j ? B[static_cast<std::size_t>(k)] : 0.0; };
+  B[0] = 1.0;
+  for (int j = 1; j < n - 1; ++j) raise(j);
+  if (d2b) {
+    auto& D = *d2b;
+    for (int k = 0; k <= n; ++k)
+      D[static_cast<std::size_t>(k)] =
+          n < 2 ? 0.0 : n * (n - 1) * (at(k - 2, n - 2) - 2 * at(k - 1, n - 2) + at(k, n - 2));
   }
+  if (n >= 2) raise(n - 1);
   // B holds degree n - 1 (or 0 when n = 0): the derivative's weights, then
   // one step more.
   if (db) {
@@ -334,15 +349,7 @@ void bernstein(int n, double t, std::array<double, N>* b, std::array<double, N>*
       D[static_cast<std::size_t>(k)] = n * ((k > 0 ? B[static_cast<std::size_t>(k) - 1] : 0.0) -
                                             (k < n ? B[static_cast<std::size_t>(k)] : 0.0));
   }
-  if (n > 0) {
-    double carry = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const double x = B[static_cast<std::size_t>(k)];
-      B[static_cast<std::size_t>(k)] = carry + (1 - t) * x;
-      carry = t * x;
-    }
-    B[static_cast<std::size_t>(n)] = carry;
-  }
+  if (n > 0) raise(n);
 }
 
 H4 axpy(const H4& acc, double s, const H4& p) {
@@ -352,58 +359,84 @@ H4 axpy(const H4& acc, double s, const H4& p) {
 
 gp_Pnt PatchGrid::eval(double u, double v) const {
   const int i = find_span(ub_, u);
-  if (pu_ <= 3 && pv_ <= 3) return d1_in<4, false>(i, u, v).p;
-  if (pu_ <= 9 && pv_ <= 9) return d1_in<10, false>(i, u, v).p;
-  return d1_in<32, false>(i, u, v).p;
+  if (pu_ <= 3 && pv_ <= 3) return derivs_in<4, 0>(i, u, v).p;
+  if (pu_ <= 9 && pv_ <= 9) return derivs_in<10, 0>(i, u, v).p;
+  return derivs_in<32, 0>(i, u, v).p;
 }
 
 SurfaceDerivs PatchGrid::d1(double u, double v) const {
   return d1_on_span(find_span(ub_, u), u, v);
 }
 
-template <std::size_t N, bool kDerivs>
-SurfaceDerivs PatchGrid::d1_in(int i, double u, double v) const {
+SurfaceDerivs2 PatchGrid::d2(double u, double v) const {
+  const int i = find_span(ub_, u);
+  if (pu_ <= 3 && pv_ <= 3) return derivs_in<4, 2>(i, u, v);
+  if (pu_ <= 9 && pv_ <= 9) return derivs_in<10, 2>(i, u, v);
+  return derivs_in<32, 2>(i, u, v);
+}
+
+template <std::size_t N, int kOrder>
+SurfaceDerivs2 PatchGrid::derivs_in(int i, double u, double v) const {
   const int j = find_span(vb_, v);
   const double du = ub_[static_cast<std::size_t>(i) + 1] - ub_[static_cast<std::size_t>(i)];
   const double dv = vb_[static_cast<std::size_t>(j) + 1] - vb_[static_cast<std::size_t>(j)];
   const double s = (u - ub_[static_cast<std::size_t>(i)]) / du;
   const double t = (v - vb_[static_cast<std::size_t>(j)]) / dv;
-  std::array<double, N> bu, dbu, bv, dbv;
-  bernstein<N>(pu_, s, &bu, kDerivs ? &dbu : nullptr);
-  bernstein<N>(pv_, t, &bv, kDerivs ? &dbv : nullptr);
+  std::array<double, N> bu, dbu, d2bu, bv, dbv, d2bv;
+  bernstein<N>(pu_, s, &bu, kOrder >= 1 ? &dbu : nullptr, kOrder >= 2 ? &d2bu : nullptr);
+  bernstein<N>(pv_, t, &bv, kOrder >= 1 ? &dbv : nullptr, kOrder >= 2 ? &d2bv : nullptr);
   const H4* p = patch(i, j);
-  // Rows in u first (value and u-derivative), then combined in v.
+  // Rows in u first (value and u-derivatives), then combined in v.
   H4 A{0, 0, 0, 0}, Au{0, 0, 0, 0}, Av{0, 0, 0, 0};
+  H4 Auu{0, 0, 0, 0}, Auv{0, 0, 0, 0}, Avv{0, 0, 0, 0};
   for (int b = 0; b <= pv_; ++b) {
-    H4 row{0, 0, 0, 0}, row_u{0, 0, 0, 0};
+    H4 row{0, 0, 0, 0}, row_u{0, 0, 0, 0}, row_uu{0, 0, 0, 0};
     for (int a = 0; a <= pu_; ++a) {
       const H4& q = p[a + (pu_ + 1) * b];
       row = axpy(row, bu[static_cast<std::size_t>(a)], q);
-      if constexpr (kDerivs) row_u = axpy(row_u, dbu[static_cast<std::size_t>(a)], q);
+      if constexpr (kOrder >= 1) row_u = axpy(row_u, dbu[static_cast<std::size_t>(a)], q);
+      if constexpr (kOrder >= 2) row_uu = axpy(row_uu, d2bu[static_cast<std::size_t>(a)], q);
     }
-    A = axpy(A, bv[static_cast<std::size_t>(b)], row);
-    if constexpr (kDerivs) {
-      Au = axpy(Au, bv[static_cast<std::size_t>(b)], row_u);
-      Av = axpy(Av, dbv[static_cast<std::size_t>(b)], row);
+    const std::size_t bb = static_cast<std::size_t>(b);
+    A = axpy(A, bv[bb], row);
+    if constexpr (kOrder >= 1) {
+      Au = axpy(Au, bv[bb], row_u);
+      Av = axpy(Av, dbv[bb], row);
+    }
+    if constexpr (kOrder >= 2) {
+      Auu = axpy(Auu, bv[bb], row_uu);
+      Auv = axpy(Auv, dbv[bb], row_u);
+      Avv = axpy(Avv, d2bv[bb], row);
     }
   }
-  SurfaceDerivs d;
+  SurfaceDerivs2 d;
   d.p = project(A);
-  if constexpr (kDerivs) {
+  if constexpr (kOrder >= 1) {
     Au = Au * (1.0 / du);
     Av = Av * (1.0 / dv);
     const gp_Vec P(d.p.X(), d.p.Y(), d.p.Z());
     d.su = (gp_Vec(Au.x, Au.y, Au.z) - P * Au.w) / A.w;
     d.sv = (gp_Vec(Av.x, Av.y, Av.z) - P * Av.w) / A.w;
   }
+  if constexpr (kOrder >= 2) {
+    // The quotient rule twice: S = X / w, so X = w S and each derivative of
+    // X is that of w S by Leibniz's rule, solved for S's.
+    Auu = Auu * (1.0 / (du * du));
+    Auv = Auv * (1.0 / (du * dv));
+    Avv = Avv * (1.0 / (dv * dv));
+    const gp_Vec P(d.p.X(), d.p.Y(), d.p.Z());
+    d.suu = (gp_Vec(Auu.x, Auu.y, Auu.z) - d.su * (2 * Au.w) - P * Auu.w) / A.w;
+    d.suv = (gp_Vec(Auv.x, Auv.y, Auv.z) - d.su * Av.w - d.sv * Au.w - P * Auv.w) / A.w;
+    d.svv = (gp_Vec(Avv.x, Avv.y, Avv.z) - d.sv * (2 * Av.w) - P * Avv.w) / A.w;
+  }
   return d;
 }
 
 SurfaceDerivs PatchGrid::d1_on_span(int i, double u, double v) const {
   // Buffers sized to the degree: they are initialised on every call.
-  if (pu_ <= 3 && pv_ <= 3) return d1_in<4, true>(i, u, v);
-  if (pu_ <= 9 && pv_ <= 9) return d1_in<10, true>(i, u, v);
-  return d1_in<32, true>(i, u, v);
+  if (pu_ <= 3 && pv_ <= 3) return derivs_in<4, 1>(i, u, v);
+  if (pu_ <= 9 && pv_ <= 9) return derivs_in<10, 1>(i, u, v);
+  return derivs_in<32, 1>(i, u, v);
 }
 
 gp_Vec PatchGrid::normal(double u, double v, const SurfaceDerivs* at) const {

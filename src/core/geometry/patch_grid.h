@@ -41,6 +41,10 @@ struct SurfaceDerivs {
   gp_Pnt p;
   gp_Vec su, sv;
 };
+// ... and the second derivatives.
+struct SurfaceDerivs2 : SurfaceDerivs {
+  gp_Vec suu, suv, svv;
+};
 
 class PatchGrid {
  public:
@@ -84,6 +88,8 @@ class PatchGrid {
   // d1 on u-span `ui` (its polynomial extended), for one-sided limits at a
   // span break where the surface is only C0.
   SurfaceDerivs d1_on_span(int ui, double u, double v) const;
+  // d1 with the second derivatives too.
+  SurfaceDerivs2 d2(double u, double v) const;
   // Unit normal pointing away from the material (the face orientation's
   // side). At a degenerate point (a pole) the limit from the interior.
   // `at`, if given, is d1(u, v) already computed.
@@ -112,10 +118,10 @@ class PatchGrid {
 
  private:
   void finish();
-  // The point at (u, v) in u-span i; with kDerivs its first derivatives
-  // too (eval() asks for the point alone).
-  template <std::size_t N, bool kDerivs>
-  SurfaceDerivs d1_in(int i, double u, double v) const;
+  // The point at (u, v) in u-span i and its derivatives up to kOrder (0:
+  // the point alone, for eval(); 1: d1(); 2: d2()).
+  template <std::size_t N, int kOrder>
+  SurfaceDerivs2 derivs_in(int i, double u, double v) const;
 
   int pu_ = 0, pv_ = 0;
   bool rational_ = false;
