@@ -170,9 +170,12 @@ class AirMoves {
     std::optional<gp_Pnt> plunge_from;
   };
 
+  // The point air_clearance straight above b.
+  gp_Pnt air_above(const gp_Pnt& b) const { return gp_Pnt(b.X(), b.Y(), b.Z() + p_.air_clearance); }
+
   Entry entry(const gp_Pnt& b, const gp_Vec* n, const gp_Vec* dir) const {
     const double air = p_.air_clearance;
-    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
+    const gp_Pnt above = air_above(b);
     Entry e{n, std::nullopt, std::nullopt};
     if (dir)
       for (const gp_Pnt& from :
@@ -186,7 +189,7 @@ class AirMoves {
 
   gp_Pnt plunge_from(const gp_Pnt& b, const gp_Vec* n) const {
     const double air = p_.air_clearance;
-    const gp_Pnt above(b.X(), b.Y(), b.Z() + air);
+    const gp_Pnt above = air_above(b);
     if (n && !model_.clear(above, air_))
       for (const gp_Vec& out : {*n * air, *n * (2.0 * air), (*n + gp_Vec(0, 0, 1)) * (2.0 * air)})
         if (model_.clear(b.Translated(out), air_)) return b.Translated(out);
@@ -205,10 +208,11 @@ class AirMoves {
     return ramp && ramp->time < plunge.time ? *ramp : plunge;
   }
 
-  // rest(from): the hop on from a lift starting at `from`. Straight up from
-  // a, or, where part of that lift is fed and a move out is faster, first
-  // fed out of a (see plan()).
-  // (A Hop or a Lift, as rest() returns.)
+  // The faster of the ways out of a, each followed by rest(from): what
+  // comes after a lift starting at `from` (the hop on, a Hop, or the
+  // program's last lift, a Lift; returned as rest() returns it). Straight
+  // up from a, or, where part of that lift is fed and a move out is faster,
+  // first fed out of a (see plan()).
   template <class Rest>
   auto leave_and(const gp_Pnt* a, const gp_Vec* a_n, const gp_Vec* a_dir, Rest rest) const
       -> decltype(rest(a)) {
