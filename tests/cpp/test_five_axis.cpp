@@ -180,7 +180,6 @@ TEST(FiveAxis, NearestPointOnASphereIsRadial) {
 TEST(FiveAxis, NearestPointOnMatIsStationary) {
   const PatchGrid g = PatchGrid::from_face(test::face(test::load("MAT.brep"), 0), 0);
   std::mt19937 rng(5);
-  const double du = g.umax() - g.umin(), dv = g.vmax() - g.vmin();
   std::uniform_real_distribution<double> U(g.umin(), g.umax()), V(g.vmin(), g.vmax()), h(-1.5, 1.5),
       j(-0.5, 0.5);
   int interior = 0;
@@ -207,8 +206,6 @@ TEST(FiveAxis, NearestPointOnMatIsStationary) {
         << k << " at " << foot.u << ", " << foot.v << " from " << uv.u << ", " << uv.v;
   }
   EXPECT_GT(interior, 3000);
-  (void)du;
-  (void)dv;
 }
 
 TEST(FiveAxis, DepthCountsTheToolUnderAFacesEdge) {
