@@ -12,7 +12,10 @@
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <GeomConvert.hxx>
+#include <GeomLProp_SLProps.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_BezierSurface.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
@@ -238,6 +241,46 @@ TEST(FiveAxis, DepthCountsTheToolUnderAFacesEdge) {
   pose.tip.SetX(3.05);
   EXPECT_EQ(tool_depth(g, contact, pose, Cutter{3.0, 0.0}, anywhere), 0.0);
   EXPECT_EQ(tool_depth(g, contact, pose, Cutter{3.0, 1.0}, anywhere), 0.0);
+}
+
+// Where the rim crosses the face's edge between two of its samples, the
+// part over the face may dig in where neither sample does. A pose of the
+// posted program on a piece of MAT (u and v from 0.3 and 0.4 of its range
+// to a tenth more; the tool beyond the edge u = 844.1, the face rising to
+// it): the rim sampled 7.5 deg apart stays above the face (the samples
+// over it at 142.5 deg, the next over the edge), but between them it is
+// 0.035 mm under it. Measured apart from the core: 3600 rim points, each
+// projected by OpenCASCADE onto the piece, its depth along the normal
+// where the foot is inside the piece's parameter range.
+TEST(FiveAxis, DepthCountsTheRimWhereItCrossesTheEdge) {
+  const TopoDS_Face mat = test::face(test::load("MAT.brep"), 0);
+  const Handle(Geom_Surface) s = BRep_Tool::Surface(mat);
+  double u0, u1, v0, v1;
+  s->Bounds(u0, u1, v0, v1);
+  const double a = u0 + 0.3 * (u1 - u0), b = u0 + 0.4 * (u1 - u0), c = v0 + 0.4 * (v1 - v0),
+               d = v0 + 0.5 * (v1 - v0);
+  const PatchGrid g = PatchGrid::from_face(BRepBuilderAPI_MakeFace(s, a, b, c, d, 1e-7).Face(), 0);
+  const double A = 13.227 * M_PI / 180, C = 61.037 * M_PI / 180;
+  const ToolPose pose{gp_Pnt(841.498, 839.697, 3.523),
+                      gp_Vec(std::sin(A) * std::sin(C), -std::sin(A) * std::cos(C), std::cos(A))};
+  const gp_Vec e1 = pose.axis.Crossed(gp_Vec(0, 0, 1)).Normalized(), e2 = pose.axis.Crossed(e1);
+  double deepest = -1.0;
+  for (int k = 0; k < 3600; ++k) {
+    const double th = 2 * M_PI * k / 3600;
+    const gp_Pnt x = pose.tip.Translated((e1 * std::cos(th) + e2 * std::sin(th)) * 3.0);
+    GeomAPI_ProjectPointOnSurf proj(x, s, a, b, c, d);
+    if (proj.NbPoints() == 0) continue;
+    double u, v;
+    proj.LowerDistanceParameters(u, v);
+    if (u <= a + 1e-9 || u >= b - 1e-9 || v <= c + 1e-9 || v >= d - 1e-9) continue;
+    GeomLProp_SLProps props(s, u, v, 1, 1e-9);
+    deepest = std::max(deepest, -gp_Vec(props.Value(), x).Dot(gp_Vec(props.Normal())));
+  }
+  ASSERT_GT(deepest, 0.03);
+  const auto anywhere = [](const ParamPt&) { return true; };
+  const double depth = tool_depth(g, {844.2, 841.0}, pose, Cutter{3.0, 0.0}, anywhere);
+  EXPECT_GE(depth, deepest - 1e-4);
+  EXPECT_LE(depth, deepest + 0.01);  // (the tool below the edge point counts too)
 }
 
 TEST(FiveAxis, OtherFaceDepthCountsTheSideAndNotBehindAConvexEdge) {

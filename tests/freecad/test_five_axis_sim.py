@@ -107,7 +107,12 @@ class CurvedFacesTest(FiveAxisFinishTest):
         than the positions'; on a 19 x 20 mm piece, before the edge was
         checked, the unchecked swings cut 0.0063 mm against 0.0046). (The
         piece beside it, u from 0.4, was used until the exact check's
-        projections converged: it has 4 such moves now, none split.)"""
+        projections converged: it has 4 such moves now, none split.) Where
+        a run ends with the tool beyond the edge the rim crosses the edge
+        between two of its samples and may dig in between them: when the
+        paths moved (the retracing spaced for the leads raised within two
+        radii), this sweep found 0.0198 mm there; the exact check now
+        searches the rim between such samples."""
         mat = support.load_shape("MAT.brep").Faces[0]
         u0, u1, v0, v1 = mat.ParameterRange
         piece = mat.Surface.toShape(
