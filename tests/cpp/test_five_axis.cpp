@@ -31,6 +31,7 @@
 #include <random>
 #include <string>
 
+#include "finishing/five_axis_pose.h"
 #include "finishing/five_axis_tool.h"
 #include "geometry/patch_grid.h"
 #include "isocam/errors.h"
@@ -642,6 +643,37 @@ TEST(FiveAxis, SpacingFollowsTheLeadsTheExactCheckRaised) {
   // moves, 5 to 7 degrees): there the swing is checked, and clear.
   EXPECT_LE(r.metrics.unconverged_moves, 8);
   EXPECT_EQ(r.metrics.swings_split, 0);
+}
+
+// The leads the exact check raised, looked up by position on a plane: the
+// lead posed at a point is the largest raised within one radius (1 mm)
+// of it; the one a path traced again is spaced for, within two (cells two
+// apart included); a lead raised only to what the curvature asks for is
+// not kept.
+TEST(FiveAxis, RaisedLeadsWithinOneAndTwoRadii) {
+  TColgp_Array2OfPnt poles(1, 2, 1, 2);
+  for (int i = 1; i <= 2; ++i)
+    for (int j = 1; j <= 2; ++j) poles(i, j) = gp_Pnt(40.0 * (i - 1), 20.0 * (j - 1), 0.0);
+  const PatchGrid g =
+      PatchGrid::from_face(BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face(), 0);
+  auto at_x = [](double x, double lead, bool exact) {
+    five_axis::Posed q;
+    q.uv = {x / 40.0, 0.5};  // (x, 10, 0)
+    q.lead = lead;
+    q.raised_exact = exact;
+    return q;
+  };
+  five_axis::RaisedLeads leads(1.0);
+  EXPECT_EQ(leads.at(gp_Pnt(10, 10, 0), 2), 0.0);
+  leads.add(g, {{at_x(10.0, 0.15, true), at_x(13.0, 0.2, true), at_x(30.0, 0.5, false)}});
+  EXPECT_EQ(leads.at(gp_Pnt(10.9, 10, 0)), 0.15);
+  EXPECT_EQ(leads.at(gp_Pnt(11.5, 10, 0)), 0.0);
+  EXPECT_EQ(leads.at(gp_Pnt(11.5, 10, 0), 2), 0.2);
+  EXPECT_EQ(leads.at(gp_Pnt(11.05, 10, 0)), 0.0);
+  EXPECT_EQ(leads.at(gp_Pnt(11.05, 10, 0), 2), 0.2);
+  EXPECT_EQ(leads.at(gp_Pnt(13, 11.9, 0), 2), 0.2);
+  EXPECT_EQ(leads.at(gp_Pnt(15.1, 10, 0), 2), 0.0);
+  EXPECT_EQ(leads.at(gp_Pnt(30, 10, 0), 2), 0.0);
 }
 
 TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {

@@ -167,7 +167,7 @@ Traced trace_face(const PatchGrid& g, const TrimDomain& trim, bool transposed, c
                   const RaisedLeads& hint, double h, const ProgressSlice& progress) {
   Traced out;
   const StripWidth width = [&job, &hint, h](const StripFrame& f) {
-    return job.width(f, h, hint.at(f.p));
+    return job.width(f, h, hint.at(f.p, 2));
   };
   FrontSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
@@ -231,7 +231,7 @@ Traced trace_isocurves(const PatchGrid& g, const TrimDomain& trim, bool transpos
   IsoStripSettings s;
   s.sample_max = std::min(job.flat_width, job.p.tool_radius);
   IsoStripPaths iso = strip_isocurves(
-      g, [&job, &hint, h](const StripFrame& f) { return job.width(f, h, hint.at(f.p)); }, s,
+      g, [&job, &hint, h](const StripFrame& f) { return job.width(f, h, hint.at(f.p, 2)); }, s,
       [&progress](double f) {
         progress.check();
         progress.report(f);
@@ -429,8 +429,12 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   // the strips there are narrower than spaced for: the certificate is
   // measured again with the leads posed, and if it exceeds h' the paths
   // are traced again with the spacing following the leads raised so far
-  // (from the second time on also for a target scaled down by the excess)
-  // and posed again, up to three times.
+  // (each point spaced for the largest raised within two radii of it: the
+  // paths move, their new points fall between the positions raised, and
+  // the check raises the lead there about as much; with one radius MAT's
+  // certificate still exceeded h' after three times), from the second
+  // time on also for a target scaled down by the excess, and posed again,
+  // up to three times.
   const double ends[5] = {0.5, 0.8, 0.9, 0.96, 1.0};
   double target = job.h_eff;
   // The runs the attempt before posed, by their samples: a run traced

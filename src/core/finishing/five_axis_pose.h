@@ -129,18 +129,22 @@ class RaisedLeads {
  public:
   explicit RaisedLeads(double radius) : r_(radius) {}
   void add(const PatchGrid& g, const std::vector<std::vector<Posed>>& runs);
-  // The largest raised lead within the radius of p, 0 if none.
-  double at(const gp_Pnt& p) const {
+  // The largest raised lead within `reach` radii of p, 0 if none: the lead
+  // posed at p (reach 1), or the one a path traced again between positions
+  // raised is spaced for (reach 2: its points fall between them, where the
+  // exact check raises about as much).
+  double at(const gp_Pnt& p, long reach = 1) const {
     if (cells_.empty()) return 0.0;
     double lead = 0.0;
+    const double r = double(reach) * r_;
     const long cx = cell(p.X()), cy = cell(p.Y()), cz = cell(p.Z());
-    for (long i = cx - 1; i <= cx + 1; ++i)
-      for (long j = cy - 1; j <= cy + 1; ++j)
-        for (long k = cz - 1; k <= cz + 1; ++k) {
+    for (long i = cx - reach; i <= cx + reach; ++i)
+      for (long j = cy - reach; j <= cy + reach; ++j)
+        for (long k = cz - reach; k <= cz + reach; ++k) {
           const auto it = cells_.find(key(i, j, k));
           if (it == cells_.end()) continue;
           for (const auto& [q, l] : it->second)
-            if (q.Distance(p) <= r_) lead = std::max(lead, l);
+            if (q.Distance(p) <= r) lead = std::max(lead, l);
         }
     return lead;
   }
