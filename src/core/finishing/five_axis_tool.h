@@ -335,9 +335,9 @@ double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& 
   // may dig in where neither sample does (the face rising to its edge
   // there, the rim dropping below it; 0.03 mm on a piece of MAT between
   // samples 7.5 deg apart): the stretch between them is searched too, on
-  // the face the tool cuts (not yet on the others: where the run ends on a
-  // convex cylinder's edge it found the end faces in the tool, which they
-  // are not).
+  // the face the tool cuts (not yet on the others: at the ends of the runs
+  // on a convex cylinder patch it counted the end faces as in the tool and
+  // left 44 positions out; why is not found yet).
   const double span = 2 * M_PI / kRim;
   auto rim_depth = [&](double a, double b, const ParamPt& start) {
     auto f = [&](double th) {
