@@ -335,9 +335,13 @@ double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& 
   // may dig in where neither sample does (the face rising to its edge
   // there, the rim dropping below it; 0.03 mm on a piece of MAT between
   // samples 7.5 deg apart): the stretch between them is searched too, on
-  // the face the tool cuts (not yet on the others: at the ends of the runs
-  // on a convex cylinder patch it counted the end faces as in the tool and
-  // left 44 positions out; why is not found yet).
+  // the face the tool cuts (not yet on the others: on a convex cylinder
+  // patch's first pass, run along its end edge, it found rim points near
+  // the contact 0.14 mm behind the end face's plane with their feet on the
+  // tool's bottom, touching at the contact on the edge, and counted that as
+  // depth, where the face cut bounds the material; 44 positions were left
+  // out. Other faces' probe counts depth behind a face wherever the foot
+  // is in the tool, touching included: to be settled first).
   const double span = 2 * M_PI / kRim;
   auto rim_depth = [&](double a, double b, const ParamPt& start) {
     auto f = [&](double th) {
