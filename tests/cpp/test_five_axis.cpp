@@ -698,6 +698,38 @@ TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
   for (const std::string& w : iso.warnings) EXPECT_EQ(w.find("gap"), std::string::npos) << w;
 }
 
+// Where the strip width changes fast along the front, the march's front
+// folds: on a piece of MAT (u and v from 0.3 to 0.5 of its range; bumps
+// whose concave ground narrows the flat end's strip from 1.65 mm to the
+// minimum spacing) it traced 1134 mm of cutting against the adaptive
+// isocurves' 440. StripEvaluation traces both and uses the shorter, with a
+// warning naming the face.
+TEST(FiveAxis, StripEvaluationUsesTheIsocurvesWhereTheMarchFolds) {
+  const TopoDS_Face mat = test::face(test::load("MAT.brep"), 0);
+  const Handle(Geom_Surface) s = BRep_Tool::Surface(mat);
+  double u0, u1, v0, v1;
+  s->Bounds(u0, u1, v0, v1);
+  const TopoDS_Face piece =
+      BRepBuilderAPI_MakeFace(s, u0 + 0.3 * (u1 - u0), u0 + 0.5 * (u1 - u0), v0 + 0.3 * (v1 - v0),
+                              v0 + 0.5 * (v1 - v0), 1e-7)
+          .Face();
+  FiveAxisParams p;
+  p.scallop_height = 0.01;
+  p.strategy = FiveAxisStrategy::NormalIsocurves;
+  const FiveAxisResult iso = five_axis_finish(piece, {0}, p);
+  p.strategy = FiveAxisStrategy::StripEvaluation;
+  const FiveAxisResult strip = five_axis_finish(piece, {0}, p);
+  EXPECT_EQ(strip.path.x, iso.path.x);
+  EXPECT_EQ(strip.metrics.cutting_length, iso.metrics.cutting_length);
+  const auto used = std::find_if(strip.warnings.begin(), strip.warnings.end(), [](const auto& w) {
+    return w.find("Face1") != std::string::npos &&
+           w.find("isocurves are used") != std::string::npos;
+  });
+  ASSERT_NE(used, strip.warnings.end());
+  for (const std::string& w : iso.warnings)
+    EXPECT_EQ(w.find("isocurves are used"), std::string::npos);
+}
+
 TEST(FiveAxis, BadArgumentsAreNamed) {
   FiveAxisParams p;
   p.corner_radius = 3.0;  // a ball: no flat bottom

@@ -369,6 +369,10 @@ struct FaceRun {
   Traced best;
   PoseOut posed;
   int respaced = 0;  // times traced again for the leads the exact check raised
+  FiveAxisStrategy strategy = FiveAxisStrategy::StripEvaluation;  // the one used
+  // The first traces' lengths (mm): the shortest of the strategy asked
+  // for, and the one used.
+  double asked_length = 0.0, used_length = 0.0;
 };
 
 // One direction's paths for the cusp h': spaced for `target` first; where
@@ -376,11 +380,12 @@ struct FaceRun {
 // than the march went, where points were resampled, cut out or joined),
 // again for a target scaled down by the excess (the cusp grows about
 // linearly with the target), up to three times.
-Traced trace_to(const PatchGrid& g, const Face& face, bool transposed, const Job& job,
-                const RaisedLeads& hint, double target, const ProgressSlice& slice) {
+Traced trace_to(const PatchGrid& g, const Face& face, bool transposed, FiveAxisStrategy strategy,
+                const Job& job, const RaisedLeads& hint, double target,
+                const ProgressSlice& slice) {
   Traced t;
   for (int attempt = 0; attempt < 4; ++attempt) {
-    t = job.p.strategy == FiveAxisStrategy::NormalIsocurves
+    t = strategy == FiveAxisStrategy::NormalIsocurves
             ? trace_isocurves(g, *face.trim, transposed, job, hint, target, slice)
             : trace_face(g, *face.trim, transposed, job, hint, target, slice);
     if (t.cusp <= job.h_eff) break;
@@ -393,27 +398,44 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   const FiveAxisParams& p = job.p;
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (p.direction != IsoDirection::Auto) dirs = {p.direction};
+  // The strategies traced: the one asked for; with StripEvaluation the
+  // adaptive isocurves too, used where they are the shorter (the march's
+  // front folds where the strip width changes fast along it: on MAT's
+  // rugged ground it traced 10 x the isocurves' length on a piece).
+  std::vector<FiveAxisStrategy> strategies{p.strategy};
+  if (p.strategy == FiveAxisStrategy::StripEvaluation)
+    strategies.push_back(FiveAxisStrategy::NormalIsocurves);
+  struct Candidate {
+    bool transposed;
+    FiveAxisStrategy strategy;
+  };
+  std::vector<Candidate> cands;
+  for (FiveAxisStrategy st : strategies)
+    for (IsoDirection d : dirs) cands.push_back({d == IsoDirection::U, st});
   RaisedLeads raised(0.5 * std::min(job.flat_width, p.tool_radius));
-  // Both directions traced at once, each on its own grid, then compared in
+  // The candidates traced at once, each on its own grid, then compared in
   // order (the result does not depend on the threads). The tracing is the
   // first half of the face's progress, the posing the second.
-  std::vector<std::optional<PatchGrid>> grids(dirs.size());
-  std::vector<Traced> traced(dirs.size());
-  TaskProgress tracing(slice.sub(0.0, 0.5), dirs.size());
-  for_each_index(dirs.size(), p.threads, [&](std::size_t k) {
-    const bool tr = dirs[k] == IsoDirection::U;
+  std::vector<std::optional<PatchGrid>> grids(cands.size());
+  std::vector<Traced> traced(cands.size());
+  TaskProgress tracing(slice.sub(0.0, 0.5), cands.size());
+  for_each_index(cands.size(), p.threads, [&](std::size_t k) {
+    const bool tr = cands[k].transposed;
     grids[k].emplace(tr ? face.grid.transposed() : face.grid);
-    traced[k] = trace_to(*grids[k], face, tr, job, raised, job.h_eff, tracing.task(k));
+    traced[k] =
+        trace_to(*grids[k], face, tr, cands[k].strategy, job, raised, job.h_eff, tracing.task(k));
   });
   std::optional<PatchGrid> best_grid;
   FaceRun out;
-  bool best_transposed = false;
-  for (std::size_t k = 0; k < dirs.size(); ++k) {
-    const bool tr = dirs[k] == IsoDirection::U;
+  Candidate chosen{false, p.strategy};
+  // The shortest length the strategy asked for traced (for the warning).
+  double asked_length = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < cands.size(); ++k) {
     Traced& t = traced[k];
     const Traced& best = out.best;
-    // The direction that covers the face (no sampled gap wider than
-    // half the strip) and meets h' by its certificate, then the shorter.
+    if (cands[k].strategy == p.strategy) asked_length = std::min(asked_length, t.length);
+    // The candidate that covers the face (no sampled gap wider than half
+    // the strip) and meets h' by its certificate, then the shorter.
     auto meets = [&job](const Traced& x) {
       return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
     };
@@ -421,9 +443,13 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
         (meets(t) == meets(best) && t.length < best.length)) {
       out.best = std::move(t);
       best_grid.emplace(std::move(*grids[k]));
-      best_transposed = tr;
+      chosen = cands[k];
     }
   }
+  const bool best_transposed = chosen.transposed;
+  out.strategy = chosen.strategy;
+  out.asked_length = asked_length;
+  out.used_length = out.best.length;
   const PatchGrid& g = *best_grid;
   // Where the exact check raised leads above what the curvature asks for,
   // the strips there are narrower than spaced for: the certificate is
@@ -449,7 +475,7 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   std::map<RunKey, PoseOut> posed_before;
   for (int attempt = 0; attempt < 4; ++attempt) {
     if (attempt > 0)
-      out.best = trace_to(g, face, best_transposed, job, raised, target,
+      out.best = trace_to(g, face, best_transposed, chosen.strategy, job, raised, target,
                           slice.sub(ends[attempt], ends[attempt]));
     const std::vector<ClippedRun> clipped =
         clip_face(g, *face.trim, best_transposed, out.best, 0.1 * job.b.chord);
@@ -578,6 +604,12 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
                                 std::to_string(best.min_hits) + " points");
     if (best.capped)
       result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
+    if (run.strategy != p.strategy)
+      result.warnings.push_back(
+          face_label(face.index) + ": the strip march's paths (" + num(run.asked_length) +
+          " mm) were longer than the adaptive isocurves' (" + num(run.used_length) +
+          " mm, its front folding where the strip width changes fast); "
+          "the isocurves are used on this face");
     if (run.respaced > 0)
       result.warnings.push_back(face_label(face.index) + ": traced again " +
                                 std::to_string(run.respaced) +

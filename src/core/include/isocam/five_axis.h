@@ -155,7 +155,12 @@ namespace isocam {
 // How the contact paths are placed.
 enum class FiveAxisStrategy {
   // Non-isoparametric: each path from the one before by the strip-width
-  // march (Lee's sections 3-5, above).
+  // march (Lee's sections 3-5, above). The adaptive isocurves below are
+  // traced too and used on a face where they are the shorter (by the same
+  // rule as the direction: covering the face and meeting h' first), with
+  // a warning naming it: where the strip width changes fast along the
+  // front (a flat end on rugged ground, its lead raised in the hollows)
+  // the front folds and the march's paths grow many times longer.
   StripEvaluation,
   // Adaptive isocurves (Elber & Cohen, Algorithm 1) with the tilted tool's
   // strip width in place of the ball's: the boundary isocurves first, then
