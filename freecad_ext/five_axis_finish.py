@@ -125,7 +125,7 @@ _DEFINITIONS = (
         QT_TRANSLATE_NOOP(
             "App::Property",
             "StripEvaluation: each pass placed from the one before by the width of the strip "
-            "it cuts (Lee 1998); on a face where the adaptive isocurves come out shorter (the "
+            "it cuts (Lee 1998); on a face where the adaptive isocurves come out a tenth shorter (the "
             "front folding on rugged ground) they are used, and a warning says so. "
             "NormalIsocurves: adaptive isocurves of the face spaced by "
             "that width, the tool along each oriented by the surface normal there (Elber & "

@@ -701,9 +701,11 @@ TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
 // Where the strip width changes fast along the front, the march's front
 // folds: on a piece of MAT (u and v from 0.3 to 0.5 of its range; bumps
 // whose concave ground narrows the flat end's strip from 1.65 mm to the
-// minimum spacing) it traced 1134 mm of cutting against the adaptive
-// isocurves' 440. StripEvaluation traces both and uses the shorter, with a
-// warning naming the face.
+// minimum spacing) it cut 1134 mm against the adaptive isocurves' 441
+// (its first tracing was the shorter; the tracing again for the leads the
+// exact check raised folded). StripEvaluation traces both, each time, and
+// uses the isocurves where they are over a tenth shorter, with a warning
+// naming the face; the leads raised differ, so the paths a little too.
 TEST(FiveAxis, StripEvaluationUsesTheIsocurvesWhereTheMarchFolds) {
   const TopoDS_Face mat = test::face(test::load("MAT.brep"), 0);
   const Handle(Geom_Surface) s = BRep_Tool::Surface(mat);
@@ -719,8 +721,8 @@ TEST(FiveAxis, StripEvaluationUsesTheIsocurvesWhereTheMarchFolds) {
   const FiveAxisResult iso = five_axis_finish(piece, {0}, p);
   p.strategy = FiveAxisStrategy::StripEvaluation;
   const FiveAxisResult strip = five_axis_finish(piece, {0}, p);
-  EXPECT_EQ(strip.path.x, iso.path.x);
-  EXPECT_EQ(strip.metrics.cutting_length, iso.metrics.cutting_length);
+  EXPECT_LE(strip.metrics.cutting_length, 1.1 * iso.metrics.cutting_length);
+  EXPECT_LE(strip.metrics.guaranteed_scallop, p.scallop_height);
   const auto used = std::find_if(strip.warnings.begin(), strip.warnings.end(), [](const auto& w) {
     return w.find("Face1") != std::string::npos &&
            w.find("isocurves are used") != std::string::npos;

@@ -370,8 +370,8 @@ struct FaceRun {
   PoseOut posed;
   int respaced = 0;  // times traced again for the leads the exact check raised
   FiveAxisStrategy strategy = FiveAxisStrategy::StripEvaluation;  // the one used
-  // The first traces' lengths (mm): the shortest of the strategy asked
-  // for, and the one used.
+  // The last traces' lengths (mm): the shortest of the strategy asked for,
+  // and of the other (used where it is not the one asked for).
   double asked_length = 0.0, used_length = 0.0;
 };
 
@@ -399,9 +399,9 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   std::vector<IsoDirection> dirs{IsoDirection::V, IsoDirection::U};
   if (p.direction != IsoDirection::Auto) dirs = {p.direction};
   // The strategies traced: the one asked for; with StripEvaluation the
-  // adaptive isocurves too, used where they are the shorter (the march's
-  // front folds where the strip width changes fast along it: on MAT's
-  // rugged ground it traced 10 x the isocurves' length on a piece).
+  // adaptive isocurves too, used where they are shorter by more than a
+  // tenth (the march's front folds where the strip width changes fast
+  // along it: on MAT's rugged ground it traced 9 x the isocurves' length).
   std::vector<FiveAxisStrategy> strategies{p.strategy};
   if (p.strategy == FiveAxisStrategy::StripEvaluation)
     strategies.push_back(FiveAxisStrategy::NormalIsocurves);
@@ -425,31 +425,41 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     traced[k] =
         trace_to(*grids[k], face, tr, cands[k].strategy, job, raised, job.h_eff, tracing.task(k));
   });
+  // A candidate beats the best so far if it covers the face (no sampled
+  // gap wider than half the strip) and meets h' by its certificate where
+  // the best does not, else if it is the shorter (the other strategy's
+  // length counted a ninth more: the one asked for is kept unless the
+  // other is shorter by more than a tenth).
+  auto meets = [&job](const Traced& x) {
+    return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
+  };
+  auto weighted = [&p](const Traced& x, FiveAxisStrategy st) {
+    return st == p.strategy ? x.length : x.length / 0.9;
+  };
+  auto beats = [&](const Traced& t, FiveAxisStrategy st, const Traced& best,
+                   FiveAxisStrategy best_st) {
+    if (meets(t) != meets(best)) return meets(t);
+    return weighted(t, st) < weighted(best, best_st);
+  };
   std::optional<PatchGrid> best_grid;
   FaceRun out;
   Candidate chosen{false, p.strategy};
-  // The shortest length the strategy asked for traced (for the warning).
-  double asked_length = std::numeric_limits<double>::infinity();
+  // The lengths of the strategy asked for and of the one used (for the
+  // warning): the shortest traced of each, then those traced again.
+  auto note_lengths = [&out, &p](const Traced& t, FiveAxisStrategy st) {
+    double& l = st == p.strategy ? out.asked_length : out.used_length;
+    l = std::min(l, t.length);
+  };
+  out.asked_length = out.used_length = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < cands.size(); ++k) {
-    Traced& t = traced[k];
-    const Traced& best = out.best;
-    if (cands[k].strategy == p.strategy) asked_length = std::min(asked_length, t.length);
-    // The candidate that covers the face (no sampled gap wider than half
-    // the strip) and meets h' by its certificate, then the shorter.
-    auto meets = [&job](const Traced& x) {
-      return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
-    };
-    if (!best_grid || (meets(t) && !meets(best)) ||
-        (meets(t) == meets(best) && t.length < best.length)) {
-      out.best = std::move(t);
+    note_lengths(traced[k], cands[k].strategy);
+    if (!best_grid || beats(traced[k], cands[k].strategy, out.best, chosen.strategy)) {
+      out.best = std::move(traced[k]);
       best_grid.emplace(std::move(*grids[k]));
       chosen = cands[k];
     }
   }
   const bool best_transposed = chosen.transposed;
-  out.strategy = chosen.strategy;
-  out.asked_length = asked_length;
-  out.used_length = out.best.length;
   const PatchGrid& g = *best_grid;
   // Where the exact check raised leads above what the curvature asks for,
   // the strips there are narrower than spaced for: the certificate is
@@ -474,9 +484,23 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
   };
   std::map<RunKey, PoseOut> posed_before;
   for (int attempt = 0; attempt < 4; ++attempt) {
-    if (attempt > 0)
-      out.best = trace_to(g, face, best_transposed, chosen.strategy, job, raised, target,
-                          slice.sub(ends[attempt], ends[attempt]));
+    if (attempt > 0) {
+      // Each strategy traced again (a march that was the shorter may fold
+      // where the raised leads narrow its strips), the better kept.
+      std::vector<Traced> again(strategies.size());
+      for_each_index(strategies.size(), p.threads, [&](std::size_t k) {
+        again[k] = trace_to(g, face, best_transposed, strategies[k], job, raised, target,
+                            slice.sub(ends[attempt], ends[attempt]));
+      });
+      out.asked_length = out.used_length = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < strategies.size(); ++k) {
+        note_lengths(again[k], strategies[k]);
+        if (k == 0 || beats(again[k], strategies[k], out.best, chosen.strategy)) {
+          out.best = std::move(again[k]);
+          chosen.strategy = strategies[k];
+        }
+      }
+    }
     const std::vector<ClippedRun> clipped =
         clip_face(g, *face.trim, best_transposed, out.best, 0.1 * job.b.chord);
     // The runs posed at once, each into its own part, joined in order.
@@ -507,6 +531,7 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     ++out.respaced;
     if (attempt >= 1) target *= 0.98 * job.h_eff / out.best.cusp;
   }
+  out.strategy = chosen.strategy;
   return out;
 }
 
@@ -606,10 +631,15 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
       result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
     if (run.strategy != p.strategy)
       result.warnings.push_back(
-          face_label(face.index) + ": the strip march's paths (" + num(run.asked_length) +
-          " mm) were longer than the adaptive isocurves' (" + num(run.used_length) +
-          " mm, its front folding where the strip width changes fast); "
-          "the isocurves are used on this face");
+          face_label(face.index) +
+          // (longer, they are used only where the march's paths fail)
+          (run.used_length < run.asked_length
+               ? ": the adaptive isocurves' paths (" + num(run.used_length) +
+                     " mm) are shorter than the strip march's (" + num(run.asked_length) +
+                     " mm: its front folds where the strip width changes fast along it)"
+               : ": the strip march's paths leave a gap wider than half the strip or exceed "
+                 "the scallop height by their certificate, the adaptive isocurves' do not") +
+          "; the isocurves are used on this face");
     if (run.respaced > 0)
       result.warnings.push_back(face_label(face.index) + ": traced again " +
                                 std::to_string(run.respaced) +

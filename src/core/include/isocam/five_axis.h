@@ -156,9 +156,9 @@ namespace isocam {
 enum class FiveAxisStrategy {
   // Non-isoparametric: each path from the one before by the strip-width
   // march (Lee's sections 3-5, above). The adaptive isocurves below are
-  // traced too and used on a face where they are the shorter (by the same
-  // rule as the direction: covering the face and meeting h' first), with
-  // a warning naming it: where the strip width changes fast along the
+  // traced too and used on a face where they are shorter by more than a
+  // tenth (after covering the face and meeting h', as for the direction),
+  // with a warning naming it: where the strip width changes fast along the
   // front (a flat end on rugged ground, its lead raised in the hollows)
   // the front folds and the march's paths grow many times longer.
   StripEvaluation,
