@@ -329,6 +329,27 @@ TEST(FiveAxis, OtherFaceDepthCountsTheSideAndNotBehindAConvexEdge) {
   EXPECT_NEAR(depth_inside(gp_Pnt(0, 0, -0.3), tip0, flat), -0.3, 1e-12);
 }
 
+// A face the tool only touches is not dug into, though the tool lies
+// behind its plane: the side of a block (x = 0, its normal -x, material
+// at x > 0, z in [-3, 0]) with the flat end on the block's top at its
+// edge, overhanging it by 2.5 mm. The rim over the top lies up to 3.5 mm
+// behind the side's plane, the feet there on the side's top edge, on the
+// tool's bottom (before, that counted 3.5 mm: a cylinder patch's passes
+// along its end edge were left out). Lowered 0.1 mm, the side's top edge
+// is 0.1 mm inside the tool, and that counts.
+TEST(FiveAxis, OtherFaceTouchedAtItsEdgeIsNotDugInto) {
+  const auto inside = [](const ParamPt&) { return true; };
+  const Cutter flat{3.0, 0.0};
+  const gp_Ax3 frame(gp_Pnt(0, 0, 0), gp_Dir(-1, 0, 0), gp_Dir(0, 1, 0));
+  const PatchGrid side =
+      PatchGrid::from_face(BRepBuilderAPI_MakeFace(gp_Pln(frame), -10, 10, 0, 3).Face(), 1);
+  const ParamPt mid{0.0, 1.5};  // (v runs down: z = -v)
+  const ToolPose on_top{gp_Pnt(0.5, 0, 0), gp_Vec(0, 0, 1)};
+  EXPECT_LE(signed_tool_depth(side, mid, on_top, flat, inside, true), 1e-6);
+  const ToolPose lowered{gp_Pnt(0.5, 0, -0.1), gp_Vec(0, 0, 1)};
+  EXPECT_NEAR(signed_tool_depth(side, mid, lowered, flat, inside, true), 0.1, 1e-6);
+}
+
 TEST(FiveAxis, LagOnReturnKeepsTheTiltsSideAndC) {
   // The plane above: by default the axis leans along each pass's feed, so
   // C turns half a turn between the zig-zag's passes; with lag_on_return

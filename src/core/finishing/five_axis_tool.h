@@ -131,9 +131,10 @@ double tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& pose, c
 // the face is another than the one the tool cuts (a wall beside it, a
 // neighbour under the overhanging disc): the cylinder's side is sampled as
 // well (24 points at each of the heights max(rc, R / 2) and R), a sample
-// counts its depth below the face only where its foot lies in the tool
-// (else how far that foot is outside: behind a face's plane is not in its
-// material far from the face, a side face below a convex edge), and a
+// counts its depth below the face only where its foot lies in the tool,
+// more than 1e-6 mm in (touching is not: a face tangent to the tool at its
+// edge), else how far that foot is outside (behind a face's plane is not in its
+// material far from the face, a side face below a convex edge); and a
 // sample over the face's edge counts how deep the edge point nearest it
 // lies inside the tool (depth_inside: a corner of the face poking into the
 // tool), not the tool's depth below it (which assumes the material under
@@ -252,6 +253,9 @@ double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& 
   // kEdgeTol mm of each other on the surface (each step one evaluation
   // and one inside(), which near the edge is the face classifier's work).
   constexpr double kEdgeTol = 1e-5;
+  // How deep inside the tool another face's point must lie to count as in
+  // it (mm): touching is not.
+  constexpr double kTouch = 1e-6;
   const bool uv_inside = inside(uv);
   // `offset`: what the sample digs in at height 0 (rc on the core disc,
   // whose points stand for the corner around them; 0 on the side).
@@ -264,9 +268,13 @@ double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& 
       const double below = offset - gp_Vec(d->p, x).Dot(g.normal(foot->u, foot->v, d));
       if (!other) return below;
       // Another face: behind it counts only where its point lies in the
-      // tool (behind a face's plane is not in its material far from it).
+      // tool (behind a face's plane is not in its material far from it),
+      // touching not included: a face tangent to the tool at its edge (a
+      // cylinder patch's end cap at a contact on their common edge) has
+      // the tool's rim behind its plane while the material there is the
+      // face's being cut.
       const double in = depth_inside(d->p, pose, tool);
-      return in >= -1e-9 ? std::max(below, in) : in;
+      return in > kTouch ? std::max(below, in) : in;
     }
     if (!uv_inside) return -std::numeric_limits<double>::infinity();
     const ParamPt e = foot_inside ? *foot : bisect_to_edge(g, uv, *foot, d->p, inside, kEdgeTol);
@@ -335,13 +343,12 @@ double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& 
   // may dig in where neither sample does (the face rising to its edge
   // there, the rim dropping below it; 0.03 mm on a piece of MAT between
   // samples 7.5 deg apart): the stretch between them is searched too, on
-  // the face the tool cuts (not yet on the others: on a convex cylinder
-  // patch's first pass, run along its end edge, it found rim points near
-  // the contact 0.14 mm behind the end face's plane with their feet on the
-  // tool's bottom, touching at the contact on the edge, and counted that as
-  // depth, where the face cut bounds the material; 44 positions were left
-  // out. Other faces' probe counts depth behind a face wherever the foot
-  // is in the tool, touching included: to be settled first).
+  // the face the tool cuts and on the others (there it first found, on a
+  // convex cylinder patch's first pass run along its end edge, rim points
+  // near the contact 0.14 mm behind the end face's plane with their feet
+  // on the tool's bottom, touching at the contact, and counted that as
+  // depth: 44 positions were left out, until touching stopped counting as
+  // in the tool, above).
   const double span = 2 * M_PI / kRim;
   auto rim_depth = [&](double a, double b, const ParamPt& start) {
     auto f = [&](double th) {
@@ -354,7 +361,7 @@ double signed_tool_depth(const PatchGrid& g, const ParamPt& uv, const ToolPose& 
   };
   if (edge_best > -std::numeric_limits<double>::infinity())
     rim_depth(edge_th - span, edge_th + span, edge_start);
-  for (int q = 0; q < kRim && !other; ++q) {
+  for (int q = 0; q < kRim; ++q) {
     const int next = (q + 1) % kRim;
     if (rim_over[q] != rim_over[next])
       rim_depth(q * span, (q + 1) * span, rim_over[q] ? rim_foot[next] : rim_foot[q]);
