@@ -697,20 +697,30 @@ TEST(FiveAxis, RaisedLeadsWithinOneAndTwoRadii) {
   EXPECT_EQ(leads.at(gp_Pnt(30, 10, 0), 2), 0.0);
 }
 
+// The op on one face with NormalIsocurves and with StripEvaluation, at
+// the scallop height h (the other parameters the defaults).
+struct BothStrategies {
+  FiveAxisResult iso, strip;
+};
+BothStrategies both_strategies(const TopoDS_Face& face, double h) {
+  FiveAxisParams p;
+  p.scallop_height = h;
+  p.strategy = FiveAxisStrategy::NormalIsocurves;
+  BothStrategies out{five_axis_finish(face, {0}, p), {}};
+  p.strategy = FiveAxisStrategy::StripEvaluation;
+  out.strip = five_axis_finish(face, {0}, p);
+  return out;
+}
+
 TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
   // The Bezier saddle above: adaptive isocurves with the tilted flat end's
   // strip, the lead raised on the concave side as for the other strategy.
-  const TopoDS_Face face = bezier_saddle();
-  FiveAxisParams p;
-  p.scallop_height = 0.02;
-  p.strategy = FiveAxisStrategy::NormalIsocurves;
-  const FiveAxisResult iso = five_axis_finish(face, {0}, p);
-  p.strategy = FiveAxisStrategy::StripEvaluation;
-  const FiveAxisResult strip = five_axis_finish(face, {0}, p);
+  const double h = 0.02;
+  const auto [iso, strip] = both_strategies(bezier_saddle(), h);
   const FiveAxisMetrics& m = iso.metrics;
   ASSERT_GT(iso.path.size(), 100u);
   EXPECT_GT(m.paths, 3);
-  EXPECT_LE(m.guaranteed_scallop, p.scallop_height + 1e-12);
+  EXPECT_LE(m.guaranteed_scallop, h + 1e-12);
   EXPECT_LE(m.max_spacing, 2 * 3.0);
   EXPECT_LE(2 * m.coverage_gap, 1.05 * m.flat_strip_width);
   EXPECT_EQ(m.unreachable_length, 0.0);
@@ -736,14 +746,10 @@ TEST(FiveAxis, StripEvaluationUsesTheIsocurvesWhereTheMarchFolds) {
       BRepBuilderAPI_MakeFace(s, u0 + 0.3 * (u1 - u0), u0 + 0.5 * (u1 - u0), v0 + 0.3 * (v1 - v0),
                               v0 + 0.5 * (v1 - v0), 1e-7)
           .Face();
-  FiveAxisParams p;
-  p.scallop_height = 0.01;
-  p.strategy = FiveAxisStrategy::NormalIsocurves;
-  const FiveAxisResult iso = five_axis_finish(piece, {0}, p);
-  p.strategy = FiveAxisStrategy::StripEvaluation;
-  const FiveAxisResult strip = five_axis_finish(piece, {0}, p);
+  const double h = 0.01;
+  const auto [iso, strip] = both_strategies(piece, h);
   EXPECT_LE(strip.metrics.cutting_length, 1.1 * iso.metrics.cutting_length);
-  EXPECT_LE(strip.metrics.guaranteed_scallop, p.scallop_height);
+  EXPECT_LE(strip.metrics.guaranteed_scallop, h);
   const auto used = std::find_if(strip.warnings.begin(), strip.warnings.end(), [](const auto& w) {
     return w.find("Face1") != std::string::npos &&
            w.find("isocurves are used") != std::string::npos;
