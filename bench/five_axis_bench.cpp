@@ -137,17 +137,12 @@ int main(int argc, char** argv) {
       const double secs =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const FiveAxisMetrics& m = r.metrics;
-      // StripEvaluation: the faces where the isocurves were the shorter
-      // and used instead of the march.
-      const auto iso_faces = std::count_if(r.warnings.begin(), r.warnings.end(), [](const auto& w) {
-        return w.find("the isocurves are used") != std::string::npos;
-      });
       const std::string label =
           std::string("5-axis flat end 6 mm, lead 5 deg, ") + (iso ? "NormalIsocurves, " : "") +
           (low ? "low links" : "safe height") + a_range +
-          (iso_faces > 0 ? " (isocurves used on " + std::to_string(iso_faces) + " of " +
-                               std::to_string(faces.size()) + " faces)"
-                         : "");
+          (m.isocurve_faces > 0 ? " (isocurves used on " + std::to_string(m.isocurve_faces) +
+                                      " of " + std::to_string(faces.size()) + " faces)"
+                                : "");
       row(label, secs, m.cutting_length, m.paths, m.machine_time, m.cutting_time,
           m.guaranteed_scallop, m.guaranteed_overcut, m.unreachable_length,
           num(m.rotary_travel_a, 0) + " / " + num(m.rotary_travel_c, 0));

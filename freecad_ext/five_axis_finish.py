@@ -300,6 +300,16 @@ _OUTPUTS = (
         ),
     ),
     (
+        "App::PropertyInteger",
+        "IsocurveFaces",
+        "isocurve_faces",
+        QT_TRANSLATE_NOOP(
+            "App::Property",
+            "StripEvaluation: faces finished with the adaptive isocurves instead of the march "
+            "(shorter by over a tenth, or the march left a gap; the report view names them)",
+        ),
+    ),
+    (
         "App::PropertyFloat",
         "MaxLeadUsed",
         "max_lead_used",
@@ -533,7 +543,7 @@ def _combined(results):
         "rotary_travel_c",
     ):
         out[attr] = sum(getattr(r.metrics, attr) for r in results)
-    for attr in ("paths", "unconverged_moves", "swings_split"):
+    for attr in ("paths", "unconverged_moves", "swings_split", "isocurve_faces"):
         out[attr] = sum(int(getattr(r.metrics, attr)) for r in results)
     for attr in (
         "flat_strip_width",

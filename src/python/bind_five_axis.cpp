@@ -106,6 +106,7 @@ void bind_five_axis(py::module_& m) {
       .def_readonly("lead_raised_points", &FiveAxisMetrics::lead_raised_points)
       .def_readonly("unconverged_moves", &FiveAxisMetrics::unconverged_moves)
       .def_readonly("swings_split", &FiveAxisMetrics::swings_split)
+      .def_readonly("isocurve_faces", &FiveAxisMetrics::isocurve_faces)
       .def_readonly("paths", &FiveAxisMetrics::paths)
       .def_readonly("retracts", &FiveAxisMetrics::retracts)
       .def_readonly("low_links", &FiveAxisMetrics::low_links)

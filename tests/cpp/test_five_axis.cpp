@@ -726,6 +726,7 @@ TEST(FiveAxis, NormalIsocurvesMeetTheScallopOnASaddle) {
   EXPECT_EQ(m.unreachable_length, 0.0);
   EXPECT_GT(m.lead_raised_points, 0);
   EXPECT_NE(iso.path.x, strip.path.x);
+  EXPECT_EQ(strip.metrics.isocurve_faces, 0);  // the march kept: the shorter
   for (const std::string& w : iso.warnings) EXPECT_EQ(w.find("gap"), std::string::npos) << w;
 }
 
@@ -757,6 +758,8 @@ TEST(FiveAxis, StripEvaluationUsesTheIsocurvesWhereTheMarchFolds) {
   ASSERT_NE(used, strip.warnings.end());
   for (const std::string& w : iso.warnings)
     EXPECT_EQ(w.find("isocurves are used"), std::string::npos);
+  EXPECT_EQ(strip.metrics.isocurve_faces, 1);
+  EXPECT_EQ(iso.metrics.isocurve_faces, 0);
 }
 
 TEST(FiveAxis, BadArgumentsAreNamed) {

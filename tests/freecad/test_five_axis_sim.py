@@ -87,6 +87,18 @@ class CurvedFacesTest(FiveAxisFinishTest):
         )
         self.assertGreater(op.MaxLeadUsed, 10.0)
 
+    def mat_piece(self, name, u_range, v_range):
+        """A document with the piece of MAT's face between the fractions
+        `u_range` and `v_range` of its parameter ranges (closed with the test)."""
+        mat = support.load_shape("MAT.brep").Faces[0]
+        u0, u1, v0, v1 = mat.ParameterRange
+        piece = mat.Surface.toShape(
+            *(u0 + f * (u1 - u0) for f in u_range), *(v0 + f * (v1 - v0) for f in v_range)
+        )
+        built = Built(name, piece)
+        self.addCleanup(built.close)
+        return built
+
     def test_mat_piece_edges_and_swings(self):
         """An 8 x 8 mm piece of MAT (u and v from 0.3 and 0.4 of its range
         to a tenth more; concave ground tighter than the flat bottom at 5
@@ -113,13 +125,7 @@ class CurvedFacesTest(FiveAxisFinishTest):
         paths moved (the retracing spaced for the leads raised within two
         radii), this sweep found 0.0198 mm there; the exact check now
         searches the rim between such samples."""
-        mat = support.load_shape("MAT.brep").Faces[0]
-        u0, u1, v0, v1 = mat.ParameterRange
-        piece = mat.Surface.toShape(
-            u0 + 0.3 * (u1 - u0), u0 + 0.4 * (u1 - u0), v0 + 0.4 * (v1 - v0), v0 + 0.5 * (v1 - v0)
-        )
-        built = Built("MatPiece", piece)
-        self.addCleanup(built.close)
+        built = self.mat_piece("MatPiece", (0.3, 0.4), (0.4, 0.5))
         op = built.op([1], Strategy="NormalIsocurves", ScallopHeight=0.01)
         self.assertNotIn("Invalid", op.State, op.getStatusString())
         _gcode, moves = self.post_and_read(built, op)
@@ -143,6 +149,31 @@ class CurvedFacesTest(FiveAxisFinishTest):
         self.assertGreater(op.SwingsSplit, 0)
         self.assertLess(op.SwingsSplit, op.UnconvergedMoves)
         self.assertLessEqual(over.max(), op.GuaranteedOvercut.Value + SIM_OVER)
+
+    def test_mat_piece_isocurves_where_the_march_folds(self):
+        """A 16 x 16 mm piece of MAT (u and v from 0.3 to 0.5 of their
+        ranges), h 0.01: where the flat end's strip narrows fast along the
+        march's front (concave bumps) the front folds, and StripEvaluation
+        takes the adaptive isocurves' paths instead (they are shorter by
+        over a tenth), which the op says in IsocurveFaces (0 with
+        NormalIsocurves, where nothing is swapped); its cutting length then
+        is the isocurves' (within a tenth: the march's cut 2.6 times that
+        before) and its certificate within h."""
+        built = self.mat_piece("MatFolds", (0.3, 0.5), (0.3, 0.5))
+        strip = built.op([1], ScallopHeight=0.01)
+        iso = built.op([1], Strategy="NormalIsocurves", ScallopHeight=0.01)
+        for op in (strip, iso):
+            self.assertNotIn("Invalid", op.State, op.getStatusString())
+            self.assertLessEqual(op.GuaranteedScallop.Value, 0.01 + 1e-9)
+        print(
+            "MAT piece, StripEvaluation: %d isocurve faces, cutting %.1f mm; "
+            "NormalIsocurves: %.1f mm"
+            % (strip.IsocurveFaces, strip.CuttingLength.Value, iso.CuttingLength.Value)
+        )
+        self.assertEqual(strip.Strategy, "StripEvaluation")
+        self.assertEqual(strip.IsocurveFaces, 1)
+        self.assertEqual(iso.IsocurveFaces, 0)
+        self.assertLessEqual(strip.CuttingLength.Value, 1.1 * iso.CuttingLength.Value)
 
     def test_floor_beside_a_block(self):
         """The floor picked, the block's walls not: where the cutting end

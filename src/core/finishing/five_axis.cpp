@@ -363,16 +363,56 @@ void check_budget(const std::vector<TopoDS_Face>& all, const std::vector<int>& f
       num(area) + " mm^2 of faces at a strip width of about " + num(job.flat_width) + " mm");
 }
 
-// One picked face: the direction chosen (traced, measured), its paths
-// clipped to the face and posed. Throws what the geometry throws.
-struct FaceRun {
+// The tracings of a face compared, one offered at a time: one beats the
+// best so far if it covers the face (no sampled gap wider than half the
+// strip) and meets h' by its certificate where the best does not, else if
+// it is the shorter (the other strategy's length counted a ninth more: the
+// one asked for is kept unless the other is shorter by more than a tenth).
+// It notes the shortest length offered of each strategy (for the warning).
+struct Choice {
+  Choice() = default;
+  explicit Choice(const Job& face_job) : job(&face_job) {}
+
+  // True if `t` is taken (then moved from).
+  bool offer(Traced& t, FiveAxisStrategy st) {
+    const FiveAxisStrategy asked = job->p.strategy;
+    double& l = st == asked ? asked_length : used_length;
+    l = std::min(l, t.length);
+    if (any && !beats(t, st)) return false;
+    best = std::move(t);
+    strategy = st;
+    any = true;
+    return true;
+  }
+
   Traced best;
+  FiveAxisStrategy strategy = FiveAxisStrategy::StripEvaluation;  // best's
+  // The shortest offered of the strategy asked for and of the other.
+  double asked_length = std::numeric_limits<double>::infinity();
+  double used_length = std::numeric_limits<double>::infinity();
+
+ private:
+  bool meets(const Traced& x) const {
+    return 2 * x.gap <= 1.05 * std::max(x.max_width, job->flat_width) && x.cusp <= job->h_eff;
+  }
+  double weighted(const Traced& x, FiveAxisStrategy st) const {
+    return st == job->p.strategy ? x.length : x.length / 0.9;
+  }
+  bool beats(const Traced& t, FiveAxisStrategy st) const {
+    if (meets(t) != meets(best)) return meets(t);
+    return weighted(t, st) < weighted(best, strategy);
+  }
+
+  const Job* job = nullptr;
+  bool any = false;
+};
+
+// One picked face: the direction and strategy chosen (traced, measured),
+// its paths clipped to the face and posed. Throws what the geometry throws.
+struct FaceRun {
+  Choice chosen;  // the last tracings' (the face's paths: chosen.best)
   PoseOut posed;
   int respaced = 0;  // times traced again for the leads the exact check raised
-  FiveAxisStrategy strategy = FiveAxisStrategy::StripEvaluation;  // the one used
-  // The last traces' lengths (mm): the shortest of the strategy asked for,
-  // and of the other (used where it is not the one asked for).
-  double asked_length = 0.0, used_length = 0.0;
 };
 
 // One direction's paths for the cusp h': spaced for `target` first; where
@@ -425,41 +465,15 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     traced[k] =
         trace_to(*grids[k], face, tr, cands[k].strategy, job, raised, job.h_eff, tracing.task(k));
   });
-  // A candidate beats the best so far if it covers the face (no sampled
-  // gap wider than half the strip) and meets h' by its certificate where
-  // the best does not, else if it is the shorter (the other strategy's
-  // length counted a ninth more: the one asked for is kept unless the
-  // other is shorter by more than a tenth).
-  auto meets = [&job](const Traced& x) {
-    return 2 * x.gap <= 1.05 * std::max(x.max_width, job.flat_width) && x.cusp <= job.h_eff;
-  };
-  auto weighted = [&p](const Traced& x, FiveAxisStrategy st) {
-    return st == p.strategy ? x.length : x.length / 0.9;
-  };
-  auto beats = [&](const Traced& t, FiveAxisStrategy st, const Traced& best,
-                   FiveAxisStrategy best_st) {
-    if (meets(t) != meets(best)) return meets(t);
-    return weighted(t, st) < weighted(best, best_st);
-  };
   std::optional<PatchGrid> best_grid;
   FaceRun out;
-  Candidate chosen{false, p.strategy};
-  // The lengths of the strategy asked for and of the one used (for the
-  // warning): the shortest traced of each, then those traced again.
-  auto note_lengths = [&out, &p](const Traced& t, FiveAxisStrategy st) {
-    double& l = st == p.strategy ? out.asked_length : out.used_length;
-    l = std::min(l, t.length);
-  };
-  out.asked_length = out.used_length = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < cands.size(); ++k) {
-    note_lengths(traced[k], cands[k].strategy);
-    if (!best_grid || beats(traced[k], cands[k].strategy, out.best, chosen.strategy)) {
-      out.best = std::move(traced[k]);
+  out.chosen = Choice(job);
+  bool best_transposed = false;
+  for (std::size_t k = 0; k < cands.size(); ++k)
+    if (out.chosen.offer(traced[k], cands[k].strategy)) {
       best_grid.emplace(std::move(*grids[k]));
-      chosen = cands[k];
+      best_transposed = cands[k].transposed;
     }
-  }
-  const bool best_transposed = chosen.transposed;
   const PatchGrid& g = *best_grid;
   // Where the exact check raised leads above what the curvature asks for,
   // the strips there are narrower than spaced for: the certificate is
@@ -492,17 +506,11 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
         again[k] = trace_to(g, face, best_transposed, strategies[k], job, raised, target,
                             slice.sub(ends[attempt], ends[attempt]));
       });
-      out.asked_length = out.used_length = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < strategies.size(); ++k) {
-        note_lengths(again[k], strategies[k]);
-        if (k == 0 || beats(again[k], strategies[k], out.best, chosen.strategy)) {
-          out.best = std::move(again[k]);
-          chosen.strategy = strategies[k];
-        }
-      }
+      out.chosen = Choice(job);
+      for (std::size_t k = 0; k < strategies.size(); ++k) out.chosen.offer(again[k], strategies[k]);
     }
     const std::vector<ClippedRun> clipped =
-        clip_face(g, *face.trim, best_transposed, out.best, 0.1 * job.b.chord);
+        clip_face(g, *face.trim, best_transposed, out.chosen.best, 0.1 * job.b.chord);
     // The runs posed at once, each into its own part, joined in order.
     slice.report(ends[attempt]);
     const ProgressSlice posing = slice.sub(ends[attempt], ends[attempt + 1]);
@@ -526,12 +534,11 @@ FaceRun finish_face(const Face& face, const Job& job, const ProgressSlice& slice
     out.posed = PoseOut();
     for (PoseOut& part : parts) out.posed.append(std::move(part));
     raised.add(g, out.posed.runs);
-    out.best.cusp = posed_cusp(g, job, out.best, raised);
-    if (out.best.cusp <= job.h_eff || attempt == 3) break;
+    out.chosen.best.cusp = posed_cusp(g, job, out.chosen.best, raised);
+    if (out.chosen.best.cusp <= job.h_eff || attempt == 3) break;
     ++out.respaced;
-    if (attempt >= 1) target *= 0.98 * job.h_eff / out.best.cusp;
+    if (attempt >= 1) target *= 0.98 * job.h_eff / out.chosen.best.cusp;
   }
-  out.strategy = chosen.strategy;
   return out;
 }
 
@@ -611,7 +618,7 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
       result.warnings.push_back(skipped_face_warning(*failed, true));
       continue;
     }
-    const Traced& best = run.best;
+    const Traced& best = run.chosen.best;
     const PoseOut& posed = run.posed;
     m.max_spacing = std::max(m.max_spacing, best.max_spacing);
     m.coverage_gap = std::max(m.coverage_gap, best.gap);
@@ -629,17 +636,19 @@ FiveAxisResult five_axis_finish(const TopoDS_Shape& shape, const std::vector<int
                                 std::to_string(best.min_hits) + " points");
     if (best.capped)
       result.warnings.push_back(face_label(face.index) + ": the paths stopped at the cap");
-    if (run.strategy != p.strategy)
+    if (run.chosen.strategy != p.strategy) {
+      ++m.isocurve_faces;
       result.warnings.push_back(
           face_label(face.index) +
           // (longer, they are used only where the march's paths fail)
-          (run.used_length < run.asked_length
-               ? ": the adaptive isocurves' paths (" + num(run.used_length) +
-                     " mm) are shorter than the strip march's (" + num(run.asked_length) +
+          (run.chosen.used_length < run.chosen.asked_length
+               ? ": the adaptive isocurves' paths (" + num(run.chosen.used_length) +
+                     " mm) are shorter than the strip march's (" + num(run.chosen.asked_length) +
                      " mm: its front folds where the strip width changes fast along it)"
                : ": the strip march's paths leave a gap wider than half the strip or exceed "
                  "the scallop height by their certificate, the adaptive isocurves' do not") +
           "; the isocurves are used on this face");
+    }
     if (run.respaced > 0)
       result.warnings.push_back(face_label(face.index) + ": traced again " +
                                 std::to_string(run.respaced) +

@@ -231,6 +231,10 @@ struct FiveAxisMetrics {
   // path is split there (the tool lifts instead of swinging).
   int unconverged_moves = 0, swings_split = 0;
   int paths = 0, retracts = 0;
+  // StripEvaluation: the faces where the adaptive isocurves were used
+  // instead of the march (shorter by over a tenth, or the march's paths
+  // failed their certificate; a warning names each).
+  int isocurve_faces = 0;
   int low_links = 0, safe_hops = 0;  // links between runs: low, or through the safe height
 };
 
