@@ -68,9 +68,9 @@ TopoDS_Face figure2_ruled_surface(bool creased) {
   return BRepBuilderAPI_MakeFace(s, 1e-7).Face();
 }
 
-TopoDS_Shape house_on_the_hill() {
-  // The hill: z = a smooth bump plus a gentle wave, interpolated by a
-  // B-spline surface through 13 x 13 points.
+TopoDS_Face smooth_hill() {
+  // z = a smooth bump plus a gentle wave, interpolated by a B-spline
+  // surface through 13 x 13 points.
   const int n = 13;
   TColgp_Array2OfPnt pts(1, n, 1, n);
   for (int i = 1; i <= n; ++i)
@@ -81,8 +81,11 @@ TopoDS_Shape house_on_the_hill() {
       pts(i, j) = gp_Pnt(x, y, bump + 3.0 * std::sin(x / 25.0) * std::cos(y / 30.0));
     }
   GeomAPI_PointsToBSplineSurface fit(pts, 3, 3, GeomAbs_C2, 1e-3);
-  const TopoDS_Face top = BRepBuilderAPI_MakeFace(fit.Surface(), 1e-7).Face();
-  const TopoDS_Shape hill = BRepPrimAPI_MakePrism(top, gp_Vec(0, 0, -30)).Shape();
+  return BRepBuilderAPI_MakeFace(fit.Surface(), 1e-7).Face();
+}
+
+TopoDS_Shape house_on_the_hill() {
+  const TopoDS_Shape hill = BRepPrimAPI_MakePrism(smooth_hill(), gp_Vec(0, 0, -30)).Shape();
   // The house: walls from below the ground to z = 45 on the slope, and a
   // gable roof (a triangular prism) on them.
   const TopoDS_Shape walls = BRepPrimAPI_MakeBox(gp_Pnt(85, 55, 0), 40, 30, 45).Shape();

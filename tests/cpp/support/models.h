@@ -18,8 +18,12 @@ TopoDS_Face face(const TopoDS_Shape& shape, int index);
 // C0 there (the normal jumps across the joints).
 TopoDS_Face figure2_ruled_surface(bool creased = false);
 
-// Elber & Cohen's "house on the hill", built in code: a B-spline hill (a
-// 150 x 150 mm bump, a solid 30 mm deep) fused with a 40 x 30 mm house with a
+// The hill alone: a B-spline face over 150 x 150 mm, a bump 25 mm high
+// with a gentle wave on it (3 mm), smooth (C2).
+TopoDS_Face smooth_hill();
+
+// Elber & Cohen's "house on the hill", built in code: the smooth hill (a
+// solid 30 mm deep under it) fused with a 40 x 30 mm house with a
 // gable roof (no overhang: a 3-axis job has no face that looks down) that
 // stands on the slope. The hill's top face gets a hole where
 // the house stands and the walls are trimmed by the hill: several trimmed
