@@ -306,7 +306,8 @@ _OUTPUTS = (
         QT_TRANSLATE_NOOP(
             "App::Property",
             "StripEvaluation: faces finished with the adaptive isocurves instead of the march "
-            "(shorter by over a tenth, or the march left a gap; the report view names them)",
+            "(shorter by over a tenth, or the march's paths left a gap or exceeded the scallop "
+            "height; the report view names them)",
         ),
     ),
     (
