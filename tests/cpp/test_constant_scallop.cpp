@@ -265,6 +265,25 @@ TEST(ConstantScallop, VanishingStripWidthEndsInAWarning) {
   EXPECT_GT(out.paths, 3.0 / (0.02 * flat));  // the narrow half at the minimum spacing
 }
 
+// Beside a reach border the certificate's samples get a short path each
+// (ReachBorder::cover()); where the ball reaches only a sliver about the
+// sample, that path must keep it. On shell1 at r 2 with the chord
+// tolerance set to 0.00091 mm (a tenth of the room), one such sample (face
+// 73, beside the grid's side u = 1) got a path whose points about it were
+// dropped (within an eighth of a stepover of the side's clamped point) and
+// both ends of which the ball does not reach: the cut kept nothing and
+// the certificate read 0.0108 mm against h 0.01.
+TEST(ConstantScallop, ASpotPathKeepsTheSampleItWasMadeFor) {
+  const TopoDS_Shape s = test::load("shell1.brep");
+  IsoParams p = scallop_params(2.0, 0.01);
+  p.chord_tolerance = 0.00091;
+  std::vector<int> all;
+  for (std::size_t f = 0; f < faces_of(s).size(); ++f) all.push_back(static_cast<int>(f));
+  const IsoResult res = adaptive_isocurve(s, all, p);
+  std::cout << "shell1, r 2, chord 0.00091: certified " << res.metrics.guaranteed_scallop << "\n";
+  EXPECT_LE(res.metrics.guaranteed_scallop, p.scallop_height * (1 + 1e-9));
+}
+
 TEST(ConstantScallop, OneAndManyThreadsGiveTheSamePathOnOneFace) {
   // One face: its paths are cut on the threads (constant_scallop.cpp,
   // cut_face()); MAT leaves ground the ball does not reach from above, so

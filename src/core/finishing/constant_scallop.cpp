@@ -450,14 +450,16 @@ class ReachBorder {
   // stepover long, along the nearest piece kept (across the way to it).
   // If the sample is still over (the clearance took that path), the
   // longer iso-v seed.
+  // Both are cut as they are, (u, v) a vertex of each (no resample: their
+  // points are under a flat stepover apart already, and it drops a point
+  // within an eighth of one of the last, as the sample could be beside a
+  // point clamped to the grid's side): where the reach is a sliver that
+  // the ends of the path miss, the cut keeps the part about the sample.
   void cover(double u, double v) {
-    FrontPiece spot = along_nearest(g_, *kept_, u, v, kSpotStep * flat_);
-    if (spot.size() >= 2) resample(g_, &spot, flat_);
-    cut_seed(spot);
+    cut_seed(along_nearest(g_, *kept_, u, v, kSpotStep * flat_));
     Gap q = gap_at(g_, *kept_, u, v);
     if (over(q)) {
-      const std::vector<FrontPiece> seed = seed_path(g_, iso_v_piece(g_, u, v, flat_), flat_);
-      if (!seed.empty()) cut_seed(seed.front());
+      cut_seed(iso_v_piece(g_, u, v, flat_));
       q = gap_at(g_, *kept_, u, v);
     }
     certify(q);
