@@ -20,6 +20,7 @@
 #include <iostream>
 
 #include "finishing/constant_scallop.h"
+#include "finishing/scallop_front.h"
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
 #include "support/checks.h"
@@ -282,6 +283,37 @@ TEST(ConstantScallop, ASpotPathKeepsTheSampleItWasMadeFor) {
   const IsoResult res = adaptive_isocurve(s, all, p);
   std::cout << "shell1, r 2, chord 0.00091: certified " << res.metrics.guaranteed_scallop << "\n";
   EXPECT_LE(res.metrics.guaranteed_scallop, p.scallop_height * (1 + 1e-9));
+}
+
+// The certificate climbs from the samples whose nearest point on the pieces
+// kept ends one (ReachBorder::climb()): the index says which those are.
+TEST(PathIndex, SaysWhenTheNearestPointEndsAPiece) {
+  auto piece = [](std::initializer_list<gp_Pnt> pts) {
+    FrontPiece pc;
+    for (const gp_Pnt& p : pts) {
+      FrontPoint x;
+      x.p = p;
+      pc.push_back(x);
+    }
+    return pc;
+  };
+  PathIndex index(1.0);
+  index.add(piece({gp_Pnt(0, 0, 0), gp_Pnt(1, 0, 0), gp_Pnt(2, 0, 0)}));
+  index.add(piece({gp_Pnt(0, 2, 0), gp_Pnt(1, 2, 0)}));
+  struct Case {
+    gp_Pnt q;
+    double d;
+    bool end;
+  };
+  for (const Case& c :
+       {Case{gp_Pnt(2.5, 0.1, 0), std::hypot(0.5, 0.1), true},
+        Case{gp_Pnt(-0.3, 0, 0.4), 0.5, true}, Case{gp_Pnt(1.0, 0.3, 0), 0.3, false},
+        Case{gp_Pnt(1.9, -0.2, 0), 0.2, false}, Case{gp_Pnt(1.3, 2.4, 0), 0.5, true},
+        Case{gp_Pnt(0.5, 1.6, 0), 0.4, false}}) {
+    bool end = !c.end;
+    EXPECT_NEAR(index.distance(c.q, nullptr, 0.0, &end), c.d, 1e-12);
+    EXPECT_EQ(end, c.end) << c.q.X() << " " << c.q.Y() << " " << c.q.Z();
+  }
 }
 
 TEST(ConstantScallop, OneAndManyThreadsGiveTheSamePathOnOneFace) {

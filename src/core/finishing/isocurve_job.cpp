@@ -109,7 +109,7 @@ ErrorBudget split_budget(const IsoParams& p) {
                           " mm) must exceed the posted rounding sqrt(3)/2 x posted_resolution (" +
                           mm(b.posted) + " mm)");
   if (p.chord_tolerance == 0) {
-    b.chord = std::min(overcut_room, 0.25 * scallop_room);
+    b.chord = std::min(overcut_room, 0.1 * scallop_room);
     return b;
   }
   b.chord = p.chord_tolerance;

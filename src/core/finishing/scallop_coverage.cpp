@@ -105,7 +105,7 @@ Gap gap_at(const PatchGrid& g, const PathIndex& index, double u, double v) {
   const gp_Pnt x = g.eval(u, v);
   gp_Pnt at;
   Gap out;
-  out.d = index.distance(x, &at);
+  out.d = index.distance(x, &at, 0.0, &out.end);
   if (x.Distance(at) >= 1e-12) out.kappa = normal_curvature(g, {u, v}, gp_Vec(x, at));
   return out;
 }

@@ -283,6 +283,7 @@ void PathIndex::add(const FrontPiece& pc) {
   for (std::size_t k = 1; k < pc.size(); ++k) {
     const gp_Pnt &a = pc[k - 1].p, &b = pc[k].p;
     segs_.emplace_back(a, b);
+    ends_.push_back(static_cast<std::uint8_t>((k == 1 ? 1 : 0) | (k + 1 == pc.size() ? 2 : 0)));
     const long i0 = idx(std::min(a.X(), b.X())), i1 = idx(std::max(a.X(), b.X()));
     const long j0 = idx(std::min(a.Y(), b.Y())), j1 = idx(std::max(a.Y(), b.Y()));
     const long k0 = idx(std::min(a.Z(), b.Z())), k1 = idx(std::max(a.Z(), b.Z()));
@@ -292,7 +293,7 @@ void PathIndex::add(const FrontPiece& pc) {
   }
 }
 
-double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough) const {
+double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough, bool* end) const {
   // Squared distances throughout; a cell is opened only if its box (grown by
   // a rounding margin, the cells being floor(x / cell)) is nearer than the
   // best segment so far, and the second ring only visits its shell. Each of
@@ -334,9 +335,14 @@ double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough) const {
             best2 = d2;
             nearest = &segs_[sgi];
             nearest_t = t;
-            if (best2 <= enough2 && !at) return std::sqrt(best2);
+            if (best2 <= enough2 && !at && !end) return std::sqrt(best2);
           }
         }
+  if (end) {
+    const std::uint8_t f =
+        nearest ? ends_[static_cast<std::size_t>(nearest - segs_.data())] : std::uint8_t{0};
+    *end = ((f & 1) && nearest_t <= 0.0) || ((f & 2) && nearest_t >= 1.0);
+  }
   if (at) {
     *at = p;
     if (nearest) {

@@ -92,7 +92,11 @@ class PathIndex {
   // `at`, if given, receives the nearest point (p itself if none is near).
   // With `enough` > 0 the search may stop at the first segment that near:
   // the answer is then at most `enough` (not the least distance).
-  double distance(const gp_Pnt& p, gp_Pnt* at = nullptr, double enough = 0.0) const;
+  // `end`, if given, is set when the nearest point is the first or last
+  // point of a piece added (where the ground beyond is the cap of a pass's
+  // end, not a strip between two passes).
+  double distance(const gp_Pnt& p, gp_Pnt* at = nullptr, double enough = 0.0,
+                  bool* end = nullptr) const;
 
  private:
   long idx(double x) const;
@@ -100,6 +104,7 @@ class PathIndex {
   double to_segment2(const gp_Pnt& p, std::size_t i, double* t) const;
   double cell_;
   std::vector<std::pair<gp_Pnt, gp_Pnt>> segs_;
+  std::vector<std::uint8_t> ends_;  // per segment: 1 first of its piece, 2 last
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
 };
 

@@ -106,7 +106,7 @@ struct IsoParams {
   // above the design where the ball reaches, and the deepest cut below it.
   double scallop_height = 0.01;      // mm, 0 < h < ball_radius
   double overcut_tolerance = 0.005;  // mm, gouge_tolerance + posted rounding < it < ball_radius
-  // 0: derived from the budgets (min(overcut room, (h - posted) / 4)); > 0:
+  // 0: derived from the budgets (min(overcut room, (h - posted) / 10)); > 0:
   // an override, which must fit both budgets (the certificate includes it).
   double chord_tolerance = 0.0;  // mm, >= 0
   // The step of the coordinates the post-processor writes: 0.001 for 3
