@@ -391,10 +391,10 @@ struct FaceCut {
 // fronts met or gaps were filled (no pair certifies the ground) the
 // simulation of the posted program found that excess over the certificate
 // at half the stepover (Ball, r 1, h 0.05: 0.054 mm left against 0.05).
-// Beside the end of a piece kept the excess is the largest (the distance
-// peaks between the end and the pieces beside it): from the samples there
-// the distance is climbed to its local maximum, which is then treated as a
-// sample (climb()).
+// Beside the end of a piece kept the distance peaks between the end and
+// the pieces beside it, where samples miss it (a MAT piece: 0.0119 mm left
+// against a certificate of 0.01): from the samples there the distance is
+// climbed to its local maximum, which is then treated as a sample (climb()).
 class ReachBorder {
  public:
   static constexpr double kStep = 0.25;  // the sampling step / the flat stepover
@@ -476,13 +476,14 @@ class ReachBorder {
 
   // Beside the end of a piece the ground's cusp peaks where its distance
   // to the end and to the neighbouring pieces is the same, between the
-  // samples (a MAT piece: 0.0119 mm left there by the exact centres
-  // against a certificate of 0.01). From each sample under h whose nearest
-  // point ends a piece, the distance is climbed to its local maximum within
-  // cell_radius() of the sample (climb_from()); a maximum over h that the ball
-  // reaches gets a path (cover()), one under h enters the certificate. One
-  // the ball does not reach is left: unreachable ground, whose border the
-  // samples' own bisection finds.
+  // samples. From the samples under h whose nearest point ends a piece
+  // (and whose ground within cell_radius() may be over h), the distance is
+  // climbed to its local maximum within cell_radius() (climb_from()); per
+  // end, a sample within cell_radius() of a maximum already found is not
+  // climbed again. A maximum over h that the ball reaches gets a path
+  // (cover()), one under h enters the certificate; one the ball does not
+  // reach is left: unreachable ground, whose border the samples' own
+  // bisection finds.
   void climb(std::vector<EndSample> ends) {
     std::stable_sort(ends.begin(), ends.end(), [](const EndSample& a, const EndSample& b) {
       const double ka[3] = {a.end.X(), a.end.Y(), a.end.Z()};

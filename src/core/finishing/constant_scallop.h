@@ -49,10 +49,11 @@
 //    circle of the largest curvature across seen between them); and on
 //    every sample of the face, the cusp its distance to the clipped contact
 //    polylines leaves (where a successor was cut out, this is what measures
-//    the ground beyond). guaranteed_scallop is the larger; max_spacing the
-//    largest chord or twice the largest sample distance. The default strip
-//    width is spaced for the whole number to be h (ball_strip_width(r, h,
-//    e)).
+//    the ground beyond), beside the end of a piece at the local maximum of
+//    that distance climbed to from the samples there. guaranteed_scallop
+//    is the larger; max_spacing the largest chord or twice the largest
+//    sample distance. The default strip width is spaced for the whole
+//    number to be h (ball_strip_width(r, h, e)).
 
 #pragma once
 
