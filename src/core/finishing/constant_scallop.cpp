@@ -419,11 +419,7 @@ class ReachBorder {
     std::vector<EndSample> ends;
     samples_.for_each([&](double u, double v) {
       const Gap q = gap_at(g_, *kept_, u, v);
-      if (q.end && !over(q) && may_hide_more(q)) {
-        gp_Pnt at;
-        kept_->distance(g_.eval(u, v), &at);
-        ends.push_back({u, v, at});
-      }
+      if (q.end && !over(q) && may_hide_more(q)) ends.push_back({u, v, q.at});
       visit(u, v, q);
     });
     climb(ends);
@@ -442,7 +438,10 @@ class ReachBorder {
   double cell_radius() const { return std::sqrt(0.5) * kStep * flat_; }
   // The ground within cell_radius() of the sample may be over h: its distance to
   // the pieces grows by at most that much.
-  bool may_hide_more(const Gap& q) const { return over(Gap{q.d + cell_radius(), q.kappa, q.end}); }
+  bool may_hide_more(Gap q) const {
+    q.d += cell_radius();
+    return over(q);
+  }
 
   // A sample's gap `q`: certified if not over h, else a path through it if
   // the ball reaches it, else the reach border towards its neighbours.

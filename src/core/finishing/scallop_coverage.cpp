@@ -103,10 +103,9 @@ void FaceSampling::coverage(const PathIndex& index, double* max_gap, double* sca
 
 Gap gap_at(const PatchGrid& g, const PathIndex& index, double u, double v) {
   const gp_Pnt x = g.eval(u, v);
-  gp_Pnt at;
   Gap out;
-  out.d = index.distance(x, &at, 0.0, &out.end);
-  if (x.Distance(at) >= 1e-12) out.kappa = normal_curvature(g, {u, v}, gp_Vec(x, at));
+  out.d = index.distance(x, &out.at, 0.0, &out.end);
+  if (x.Distance(out.at) >= 1e-12) out.kappa = normal_curvature(g, {u, v}, gp_Vec(x, out.at));
   return out;
 }
 

@@ -56,7 +56,8 @@ class FaceSampling {
 // that cuts there (0 on the path).
 struct Gap {
   double d = 0.0, kappa = 0.0;
-  bool end = false;  // the nearest point ends a polyline (PathIndex::distance())
+  gp_Pnt at;         // that nearest point
+  bool end = false;  // it ends a polyline (PathIndex::distance())
 };
 Gap gap_at(const PatchGrid& g, const PathIndex& index, double u, double v);
 
