@@ -285,6 +285,45 @@ TEST(ConstantScallop, ASpotPathKeepsTheSampleItWasMadeFor) {
   EXPECT_LE(res.metrics.guaranteed_scallop, p.scallop_height * (1 + 1e-9));
 }
 
+// The certificate's climb (ReachBorder::climb()) can end on ground the
+// ball does not reach from above, past the reach border; the reachable
+// ground before that border is then sampled along it as an unreached
+// sample's is. On Ball (r 1, h 0.05, every face) a wall of face 17 has
+// such a spot between two samples, one just past the border: the posted
+// program's simulation read 0.0503 mm left there, and the ball centres
+// themselves leave 0.054 mm within 0.02 mm of it, while the climb's peak,
+// unreached, was dropped. Measured here on the path's own ball centres.
+TEST(ConstantScallop, AClimbPastTheReachBorderSamplesTheBorder) {
+  const TopoDS_Shape s = test::load("Ball.brep");
+  const IsoParams p = scallop_params(1.0, 0.05);
+  std::vector<int> all;
+  for (std::size_t f = 0; f < faces_of(s).size(); ++f) all.push_back(static_cast<int>(f));
+  const IsoResult res = adaptive_isocurve(s, all, p);
+  const test::SegmentIndex tips = test::feed_segments(res.path, 0.5);
+  Handle(Geom_Surface) surface = BRep_Tool::Surface(test::face(s, 16));
+  GeomAPI_ProjectPointOnSurf proj(gp_Pnt(8.1753, 1.5739, 11.286), surface);
+  ASSERT_GT(proj.NbPoints(), 0);
+  double u0, v0;
+  proj.LowerDistanceParameters(u0, v0);
+  gp_Pnt x;
+  gp_Vec su, sv;
+  surface->D1(u0, v0, x, su, sv);
+  // The ground within 0.02 mm, 0.0005 mm apart: material left = distance to
+  // the nearest ball centre - r.
+  const double du = 0.0005 / su.Magnitude(), dv = 0.0005 / sv.Magnitude();
+  double left = 0.0;
+  for (int a = -40; a <= 40; ++a)
+    for (int b = -40; b <= 40; ++b) {
+      const gp_Pnt q = surface->Value(u0 + a * du, v0 + b * dv);
+      if (q.Distance(x) > 0.02) continue;
+      left = std::max(
+          left, tips.distance(q.Translated(gp_Vec(0, 0, -p.ball_radius)), 2.0) - p.ball_radius);
+    }
+  std::cout << "Ball, r 1, h 0.05: left beside face 17's reach border " << left << ", certified "
+            << res.metrics.guaranteed_scallop << "\n";
+  EXPECT_LE(left, res.metrics.guaranteed_scallop);
+}
+
 // The certificate climbs from the samples whose nearest point on the pieces
 // kept ends one (ReachBorder::climb()): the index says which those are.
 TEST(PathIndex, SaysWhenTheNearestPointEndsAPiece) {
