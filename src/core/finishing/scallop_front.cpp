@@ -24,36 +24,19 @@ ParamPt clamp_to(const PatchGrid& g, ParamPt q) {
   return q;
 }
 
-double span_width(const std::vector<double>& br, double t) {
-  const auto it = std::upper_bound(br.begin(), br.end(), t);
-  const std::size_t i =
-      std::clamp<std::size_t>(static_cast<std::size_t>(it - br.begin()), 1, br.size() - 1);
-  return br[i] - br[i - 1];
-}
-
-// Normal curvatures at uv along the tangent directions `t1` and `t2` (unit),
-// convex > 0 (geometry/curvature.h's convention); second derivatives by
-// central differences of the exact first ones, 1e-4 of the patch, kept
-// inside the grid's rectangle. `at_uv`: the first derivatives at uv, if the
-// caller has them (used where the differences are centred on uv itself).
-void normal_curvatures(const PatchGrid& g, const ParamPt& uv, const gp_Vec& n, const gp_Vec& t1,
-                       const gp_Vec& t2, double* k1, double* k2,
-                       const SurfaceDerivs* at_uv = nullptr) {
-  const double hu = 1e-4 * span_width(g.ubreaks(), uv.u), hv = 1e-4 * span_width(g.vbreaks(), uv.v);
-  const double u = std::clamp(uv.u, g.umin() + hu, g.umax() - hu);
-  const double v = std::clamp(uv.v, g.vmin() + hv, g.vmax() - hv);
-  const SurfaceDerivs d = at_uv && u == uv.u && v == uv.v ? *at_uv : g.d1(u, v);
-  const SurfaceDerivs up = g.d1(u + hu, v), um = g.d1(u - hu, v);
-  const SurfaceDerivs vp = g.d1(u, v + hv), vm = g.d1(u, v - hv);
-  const gp_Vec suu = (up.su - um.su) / (2 * hu), svv = (vp.sv - vm.sv) / (2 * hv);
-  const gp_Vec suv = ((vp.su - vm.su) / (2 * hv) + (up.sv - um.sv) / (2 * hu)) * 0.5;
+// Normal curvatures along the tangent directions `t1` and `t2` (unit) at the
+// point whose exact derivatives are `d` (PatchGrid::d2; at a knot, those of
+// the span it opens) and unit normal n, convex > 0 (geometry/curvature.h's
+// convention).
+void normal_curvatures(const SurfaceDerivs2& d, const gp_Vec& n, const gp_Vec& t1,
+                       const gp_Vec& t2, double* k1, double* k2) {
   auto kappa = [&](const gp_Vec& t) {
     double a, b;
     if (!param_direction(d, t, &a, &b)) return 0.0;
     const gp_Vec tt = d.su * a + d.sv * b;
     const double len2 = tt.SquareMagnitude();
     if (!(len2 > 0)) return 0.0;
-    return -(suu * (a * a) + suv * (2 * a * b) + svv * (b * b)).Dot(n) / len2;
+    return -(d.suu * (a * a) + d.suv * (2 * a * b) + d.svv * (b * b)).Dot(n) / len2;
   };
   *k1 = kappa(t1);
   *k2 = kappa(t2);
@@ -269,13 +252,13 @@ bool param_direction(const SurfaceDerivs& d, const gp_Vec& dir, double* a, doubl
 StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_guess) {
   StripFrame f;
   f.uv = uv;
-  const SurfaceDerivs d = g.d1(uv.u, uv.v);
+  const SurfaceDerivs2 d = g.d2(uv.u, uv.v);
   f.p = d.p;
   f.normal = g.normal(uv.u, uv.v, &d);
   f.feed = tangential(feed_guess, f.normal);
   f.across = f.normal.Crossed(f.feed);
   if (f.feed.SquareMagnitude() > 0.5)
-    normal_curvatures(g, uv, f.normal, f.across, f.feed, &f.kappa_across, &f.kappa_feed, &d);
+    normal_curvatures(d, f.normal, f.across, f.feed, &f.kappa_across, &f.kappa_feed);
   return f;
 }
 
@@ -371,12 +354,12 @@ StripWidth ball_strip_width(double r, double h, double e) {
 }
 
 double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir) {
-  const SurfaceDerivs d = g.d1(uv.u, uv.v);
+  const SurfaceDerivs2 d = g.d2(uv.u, uv.v);
   const gp_Vec n = g.normal(uv.u, uv.v, &d);
   const gp_Vec t = tangential(dir, n);
   if (t.SquareMagnitude() < 0.5) return 0.0;
   double k1, k2;
-  normal_curvatures(g, uv, n, t, t, &k1, &k2, &d);
+  normal_curvatures(d, n, t, t, &k1, &k2);
   return k1;
 }
 
