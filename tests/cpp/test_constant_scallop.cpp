@@ -21,6 +21,7 @@
 
 #include "finishing/constant_scallop.h"
 #include "finishing/scallop_front.h"
+#include "geometry/patch_grid.h"
 #include "isocam/adaptive_isocurve.h"
 #include "isocam/brep_io.h"
 #include "support/checks.h"
@@ -322,6 +323,31 @@ TEST(ConstantScallop, AClimbPastTheReachBorderSamplesTheBorder) {
   std::cout << "Ball, r 1, h 0.05: left beside face 17's reach border " << left << ", certified "
             << res.metrics.guaranteed_scallop << "\n";
   EXPECT_LE(left, res.metrics.guaranteed_scallop);
+}
+
+// The strip width's curvature beside a pole of the parametrisation (a
+// sphere's, on the grid's side v = vmax): the parameters' directions
+// degenerate there and the exact derivatives' solve cancels (59.6 against
+// 1/R = 0.1 1e-10 of the way from the pole on Ball's sphere), so it is
+// taken a little inside; with the pole's normal there it read 0.059.
+TEST(ScallopFront, CurvatureBesideAPoleIsTheSurfaces) {
+  const double R = 10.0;
+  const PatchGrid g =
+      PatchGrid::from_face(test::face(BRepPrimAPI_MakeSphere(R).Shape(), 0), 0);
+  for (double f : {1e-3, 1e-7, 1e-10, 0.0})
+    for (double side : {g.vmin(), g.vmax()}) {
+      const double u = g.umin() + 0.3 * (g.umax() - g.umin());
+      const double v = side + (side == g.vmin() ? f : -f) * (g.vmax() - g.vmin());
+      const gp_Vec n = g.normal(u, v);
+      for (int k = 0; k < 8; ++k) {
+        const double th = k * M_PI / 8;
+        gp_Vec e1 = n.Crossed(std::fabs(n.X()) < 0.9 ? gp_Vec(1, 0, 0) : gp_Vec(0, 1, 0));
+        e1.Normalize();
+        const gp_Vec t = e1 * std::cos(th) + n.Crossed(e1) * std::sin(th);
+        EXPECT_NEAR(normal_curvature(g, {u, v}, t), 1.0 / R, 1e-6 / R)
+            << "v " << v << " direction " << k;
+      }
+    }
 }
 
 // The certificate climbs from the samples whose nearest point on the pieces
