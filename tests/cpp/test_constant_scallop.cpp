@@ -332,8 +332,7 @@ TEST(ConstantScallop, AClimbPastTheReachBorderSamplesTheBorder) {
 // taken a little inside; with the pole's normal there it read 0.059.
 TEST(ScallopFront, CurvatureBesideAPoleIsTheSurfaces) {
   const double R = 10.0;
-  const PatchGrid g =
-      PatchGrid::from_face(test::face(BRepPrimAPI_MakeSphere(R).Shape(), 0), 0);
+  const PatchGrid g = PatchGrid::from_face(test::face(BRepPrimAPI_MakeSphere(R).Shape(), 0), 0);
   for (double f : {1e-3, 1e-7, 1e-10, 0.0})
     for (double side : {g.vmin(), g.vmax()}) {
       const double u = g.umin() + 0.3 * (g.umax() - g.umin());
