@@ -39,12 +39,12 @@ double span_width(const std::vector<double>& br, double t) {
 // 59.6 against its 0.0837 1e-10 of the way from the pole, exact to 5
 // digits from 1e-4 to 1e-6). The normal is the point's own: the pole's,
 // with the derivatives 1e-4 away, read 0.059 there. `d`, `n`: at uv.
-struct CurvatureAt {
+struct CurvatureSite {
   SurfaceDerivs2 d;
   gp_Vec n;
 };
-CurvatureAt curvature_at(const PatchGrid& g, const ParamPt& uv, const SurfaceDerivs2& d,
-                         const gp_Vec& n) {
+CurvatureSite curvature_site(const PatchGrid& g, const ParamPt& uv, const SurfaceDerivs2& d,
+                             const gp_Vec& n) {
   const double hu = 1e-4 * span_width(g.ubreaks(), uv.u), hv = 1e-4 * span_width(g.vbreaks(), uv.v);
   const double u = std::clamp(uv.u, g.umin() + hu, g.umax() - hu);
   const double v = std::clamp(uv.v, g.vmin() + hv, g.vmax() - hv);
@@ -54,8 +54,8 @@ CurvatureAt curvature_at(const PatchGrid& g, const ParamPt& uv, const SurfaceDer
 }
 
 // Normal curvatures along the tangent directions `t1` and `t2` (unit) at
-// `c` (curvature_at()), convex > 0 (geometry/curvature.h's convention).
-void normal_curvatures(const CurvatureAt& c, const gp_Vec& t1, const gp_Vec& t2, double* k1,
+// `c` (curvature_site()), convex > 0 (geometry/curvature.h's convention).
+void normal_curvatures(const CurvatureSite& c, const gp_Vec& t1, const gp_Vec& t2, double* k1,
                        double* k2) {
   const SurfaceDerivs2& d = c.d;
   const gp_Vec& n = c.n;
@@ -287,7 +287,7 @@ StripFrame make_frame(const PatchGrid& g, const ParamPt& uv, const gp_Vec& feed_
   f.feed = tangential(feed_guess, f.normal);
   f.across = f.normal.Crossed(f.feed);
   if (f.feed.SquareMagnitude() > 0.5)
-    normal_curvatures(curvature_at(g, uv, d, f.normal), f.across, f.feed, &f.kappa_across,
+    normal_curvatures(curvature_site(g, uv, d, f.normal), f.across, f.feed, &f.kappa_across,
                       &f.kappa_feed);
   return f;
 }
@@ -389,7 +389,7 @@ double normal_curvature(const PatchGrid& g, const ParamPt& uv, const gp_Vec& dir
   const gp_Vec t = tangential(dir, n);
   if (t.SquareMagnitude() < 0.5) return 0.0;
   double k1, k2;
-  normal_curvatures(curvature_at(g, uv, d, n), t, t, &k1, &k2);
+  normal_curvatures(curvature_site(g, uv, d, n), t, t, &k1, &k2);
   return k1;
 }
 
