@@ -382,8 +382,9 @@ TEST(PathIndex, SaysWhenTheNearestPointEndsAPiece) {
 
 TEST(ConstantScallop, OneAndManyThreadsGiveTheSamePathOnOneFace) {
   // One face: its paths are cut on the threads (constant_scallop.cpp,
-  // cut_face()); MAT leaves ground the ball does not reach from above, so
-  // the reach border adds paths after them.
+  // cut_faces()); MAT leaves ground the ball does not reach from above, so
+  // the reach border adds paths after them, its samples probed on the
+  // threads and settled in order (ReachBorder::fill()).
   const TopoDS_Shape s = test::load("MAT.brep");
   IsoParams p = scallop_params(3.0, 0.05);
   p.safe_z = 400;

@@ -283,6 +283,17 @@ class PieceCutter {
   // The ball touching the face at (u, v) is reached from above: its column
   // keeps the clearance the cut keeps (as clear_pieces() keeps a vertex).
   bool reached(double u, double v) const { return model_.clear_above(centre({u, v}), clearance_); }
+  // No ball centre within `radius` of the one touching (u, v) is reached
+  // from above: a witness shows the model closer to its column than the
+  // clearance less radius and the model's tolerance, so closer than the
+  // clearance less the tolerance to the column of any such centre (a query
+  // out of its budget shows nothing: false).
+  bool unreached_within(double u, double v, double radius) const {
+    ClearanceModel::Witness w;
+    return !model_.clear_above(centre({u, v}), clearance_ - radius - model_.tolerance(), &w) &&
+           w.grid != nullptr;
+  }
+  gp_Pnt centre(double u, double v) const { return centre({u, v}); }
   bool inside(double u, double v) const {
     return transposed_ ? trim_.contains(v, u) : trim_.contains(u, v);
   }
@@ -412,16 +423,25 @@ class ReachBorder {
         e_(e),
         flat_(stepover_for_scallop(r_, h_)),
         kept_(kept),
-        out_(out) {}
+        out_(out),
+        threads_(params.threads) {}
 
+  // The samples in blocks: each block's samples measured on the threads
+  // (probe(): read only), then settled in order (settle()), as one pass in
+  // order would: the result does not depend on the threads.
   void fill() {
     o_->gap = o_->gap_scallop = 0.0;
+    std::vector<ParamPt> at;
+    samples_.for_each([&](double u, double v) { at.push_back({u, v}); });
     std::vector<EndSample> ends;
-    samples_.for_each([&](double u, double v) {
-      const Gap q = gap_at(g_, *kept_, u, v);
-      if (q.end && !over(q) && may_hide_more(q)) ends.push_back({u, v, q.at});
-      visit(u, v, q);
-    });
+    std::vector<Probe> block;
+    constexpr std::size_t kBlock = 1024;
+    for (std::size_t b = 0; b < at.size(); b += kBlock) {
+      block.assign(std::min(kBlock, at.size() - b), Probe{});
+      for_each_index(block.size(), threads_, [&](std::size_t k) { block[k] = probe(at[b + k]); });
+      fresh_.clear();
+      for (const Probe& s : block) settle(s, &ends);
+    }
     climb(ends);
   }
 
@@ -431,6 +451,44 @@ class ReachBorder {
     double u, v;
     gp_Pnt end;
   };
+  // A sample measured against the pieces kept when its block began and,
+  // where its gap is over h, whether the ball reaches it and if not its
+  // reach border (border_points()).
+  struct Probe {
+    ParamPt uv;
+    gp_Pnt p;
+    Gap q;
+    bool reached = false;
+    std::vector<ParamPt> border;
+  };
+  Probe probe(const ParamPt& uv) const {
+    Probe s{uv, g_.eval(uv.u, uv.v), gap_at(g_, *kept_, uv.u, uv.v), false, {}};
+    if (over(s.q)) {
+      s.reached = cutter_.reached(uv.u, uv.v);
+      if (!s.reached) s.border = border_points(uv.u, uv.v);
+    }
+    return s;
+  }
+  // A piece kept since its block was probed (fresh_) passes nearer to p than d.
+  bool nearer(const gp_Pnt& p, double d) const {
+    return std::any_of(fresh_.begin(), fresh_.end(), [&](const std::pair<gp_Pnt, gp_Pnt>& s) {
+      const gp_Vec ab(s.first, s.second), ap(s.first, p);
+      const double l2 = ab.SquareMagnitude();
+      const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+      return p.SquareDistance(s.first.Translated(ab * t)) < d * d;
+    });
+  }
+  // A probed sample, in order: its gap measured again where a piece kept
+  // since its block was probed is nearer, then as visit() does.
+  void settle(const Probe& s, std::vector<EndSample>* ends) {
+    const double u = s.uv.u, v = s.uv.v;
+    const Gap q = nearer(s.p, s.q.d) ? gap_at(g_, *kept_, u, v) : s.q;
+    if (q.end && !over(q) && may_hide_more(q)) ends->push_back({u, v, q.at});
+    if (!over(s.q)) return visit(u, v, q);  // not probed past the gap
+    if (!over(q)) return certify(q);
+    if (s.reached) return cover(u, v);
+    border(s.border);
+  }
 
   bool over(const Gap& q) const { return left_over(q, r_, h_, e_); }
   // Half the diagonal of a sampling step: every point of the face is about
@@ -448,36 +506,51 @@ class ReachBorder {
   void visit(double u, double v, const Gap& q) {
     if (!over(q)) return certify(q);
     if (cutter_.reached(u, v)) return cover(u, v);
-    border(u, v);
+    border(border_points(u, v));
   }
   // From (u, v), which the ball does not reach, towards each of its 8
   // neighbours a sampling step away that it reaches: the reach border
-  // bisected (6 halvings, to 1/64) and its last point reached treated as a
-  // sample (a path there if over h).
-  void border(double u, double v) {
+  // bisected (6 halvings, to 1/64), its last points reached.
+  // Where the model blocks the column at (u, v) by more than the farthest
+  // neighbour's centre is away, none is reached (unreached_within()): one
+  // query instead of eight, the same answer.
+  std::vector<ParamPt> border_points(double u, double v) const {
+    std::vector<ParamPt> out;
     const SurfaceDerivs d = g_.d1(u, v);
     const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
     const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
+    std::vector<ParamPt> next;
+    const gp_Pnt c = cutter_.centre(u, v);
+    double radius = 0.0;
     for (int a = -1; a <= 1; ++a)
       for (int b = -1; b <= 1; ++b) {
         if (a == 0 && b == 0) continue;
-        const double u1 = std::clamp(u + a * du, g_.umin(), g_.umax());
-        const double v1 = std::clamp(v + b * dv, g_.vmin(), g_.vmax());
-        if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
-        double s0 = 0.0, s1 = 1.0;
-        for (int k = 0; k < 6; ++k) {
-          const double m = 0.5 * (s0 + s1);
-          (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
-        }
-        const double ub = u + s1 * (u1 - u), vb = v + s1 * (v1 - v);
-        const Gap qb = gap_at(g_, *kept_, ub, vb);
-        if (over(qb))
-          cover(ub, vb);
-        else
-          certify(qb);
+        next.push_back({std::clamp(u + a * du, g_.umin(), g_.umax()),
+                        std::clamp(v + b * dv, g_.vmin(), g_.vmax())});
+        radius = std::max(radius, c.Distance(cutter_.centre(next.back().u, next.back().v)));
       }
+    if (cutter_.unreached_within(u, v, radius)) return out;
+    for (const auto& [u1, v1] : next) {
+      if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
+      double s0 = 0.0, s1 = 1.0;
+      for (int k = 0; k < 6; ++k) {
+        const double m = 0.5 * (s0 + s1);
+        (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
+      }
+      out.push_back({u + s1 * (u1 - u), v + s1 * (v1 - v)});
+    }
+    return out;
   }
-
+  // The reach border's points treated as samples (a path there if over h).
+  void border(const std::vector<ParamPt>& points) {
+    for (const ParamPt& b : points) {
+      const Gap qb = gap_at(g_, *kept_, b.u, b.v);
+      if (over(qb))
+        cover(b.u, b.v);
+      else
+        certify(qb);
+    }
+  }
   // Beside the end of a piece the ground's cusp peaks where its distance
   // to the end and to the neighbouring pieces is the same, between the
   // samples. From the samples under h whose nearest point ends a piece
@@ -513,7 +586,7 @@ class ReachBorder {
       else if (cutter_.reached(u, v))
         cover(u, v);
       else
-        border(u, v);
+        border(border_points(u, v));
     }
   }
 
@@ -577,7 +650,10 @@ class ReachBorder {
     double not_needed = 0.0, not_needed_from_above = 0.0;
     std::vector<FrontPiece> contact;
     cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, &contact);
-    for (const FrontPiece& c : contact) kept_->add(c);
+    for (const FrontPiece& c : contact) {
+      kept_->add(c);
+      for (std::size_t k = 1; k < c.size(); ++k) fresh_.emplace_back(c[k - 1].p, c[k].p);
+    }
   }
   // The cusp a sample's gap `q` to the pieces kept leaves, into the
   // certificate.
@@ -593,7 +669,10 @@ class ReachBorder {
   const PieceCutter& cutter_;
   double r_, h_, e_, flat_;
   PathIndex* kept_;
+  // The segments of the pieces cover() kept since the block was probed.
+  std::vector<std::pair<gp_Pnt, gp_Pnt>> fresh_;
   FaceCut* out_;
+  int threads_;
 };
 
 // Phase 3a: one path of a face clipped, offset, cut for clearance (every
