@@ -426,21 +426,31 @@ class ReachBorder {
         out_(out),
         threads_(params.threads) {}
 
-  // The samples in blocks: each block's samples measured on the threads
-  // (probe(): read only), then settled in order (settle()), as one pass in
-  // order would: the result does not depend on the threads.
+  // The samples in blocks: each block's gaps to the pieces kept measured on
+  // the threads (read only), then the samples visited in order, a gap
+  // measured again where a piece kept since passes nearer (nearer()): as one
+  // pass in order would, the result does not depend on the threads.
   void fill() {
     o_->gap = o_->gap_scallop = 0.0;
     std::vector<ParamPt> at;
     samples_.for_each([&](double u, double v) { at.push_back({u, v}); });
     std::vector<EndSample> ends;
-    std::vector<Probe> block;
+    std::vector<std::pair<gp_Pnt, Gap>> block;
     constexpr std::size_t kBlock = 1024;
     for (std::size_t b = 0; b < at.size(); b += kBlock) {
-      block.assign(std::min(kBlock, at.size() - b), Probe{});
-      for_each_index(block.size(), threads_, [&](std::size_t k) { block[k] = probe(at[b + k]); });
+      block.resize(std::min(kBlock, at.size() - b));
+      for_each_index(block.size(), threads_, [&](std::size_t k) {
+        const auto [u, v] = at[b + k];
+        block[k] = {g_.eval(u, v), gap_at(g_, *kept_, u, v)};
+      });
       fresh_.clear();
-      for (const Probe& s : block) settle(s, &ends);
+      for (std::size_t k = 0; k < block.size(); ++k) {
+        const auto [u, v] = at[b + k];
+        const Gap q =
+            nearer(block[k].first, block[k].second.d) ? gap_at(g_, *kept_, u, v) : block[k].second;
+        if (q.end && !over(q) && may_hide_more(q)) ends.push_back({u, v, q.at});
+        visit(u, v, q);
+      }
     }
     climb(ends);
   }
@@ -451,25 +461,8 @@ class ReachBorder {
     double u, v;
     gp_Pnt end;
   };
-  // A sample measured against the pieces kept when its block began and,
-  // where its gap is over h, whether the ball reaches it and if not its
-  // reach border (border_points()).
-  struct Probe {
-    ParamPt uv;
-    gp_Pnt p;
-    Gap q;
-    bool reached = false;
-    std::vector<ParamPt> border;
-  };
-  Probe probe(const ParamPt& uv) const {
-    Probe s{uv, g_.eval(uv.u, uv.v), gap_at(g_, *kept_, uv.u, uv.v), false, {}};
-    if (over(s.q)) {
-      s.reached = cutter_.reached(uv.u, uv.v);
-      if (!s.reached) s.border = border_points(uv.u, uv.v);
-    }
-    return s;
-  }
-  // A piece kept since its block was probed (fresh_) passes nearer to p than d.
+  // A piece kept since the block's gaps were measured (fresh_) passes nearer
+  // to p than d.
   bool nearer(const gp_Pnt& p, double d) const {
     return std::any_of(fresh_.begin(), fresh_.end(), [&](const std::pair<gp_Pnt, gp_Pnt>& s) {
       const gp_Vec ab(s.first, s.second), ap(s.first, p);
@@ -477,17 +470,6 @@ class ReachBorder {
       const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
       return p.SquareDistance(s.first.Translated(ab * t)) < d * d;
     });
-  }
-  // A probed sample, in order: its gap measured again where a piece kept
-  // since its block was probed is nearer, then as visit() does.
-  void settle(const Probe& s, std::vector<EndSample>* ends) {
-    const double u = s.uv.u, v = s.uv.v;
-    const Gap q = nearer(s.p, s.q.d) ? gap_at(g_, *kept_, u, v) : s.q;
-    if (q.end && !over(q) && may_hide_more(q)) ends->push_back({u, v, q.at});
-    if (!over(s.q)) return visit(u, v, q);  // not probed past the gap
-    if (!over(q)) return certify(q);
-    if (s.reached) return cover(u, v);
-    border(s.border);
   }
 
   bool over(const Gap& q) const { return left_over(q, r_, h_, e_); }
@@ -506,16 +488,16 @@ class ReachBorder {
   void visit(double u, double v, const Gap& q) {
     if (!over(q)) return certify(q);
     if (cutter_.reached(u, v)) return cover(u, v);
-    border(border_points(u, v));
+    border(u, v);
   }
   // From (u, v), which the ball does not reach, towards each of its 8
   // neighbours a sampling step away that it reaches: the reach border
-  // bisected (6 halvings, to 1/64), its last points reached.
-  // Where the model blocks the column at (u, v) by more than the farthest
-  // neighbour's centre is away, none is reached (unreached_within()): one
-  // query instead of eight, the same answer.
-  std::vector<ParamPt> border_points(double u, double v) const {
-    std::vector<ParamPt> out;
+  // bisected (6 halvings, to 1/64) and its last point reached treated as a
+  // sample (a path there if over h). Where the model blocks the column at
+  // (u, v) by more than the farthest neighbour's centre is away, none is
+  // reached (PieceCutter::unreached_within()): one query instead of eight,
+  // the same answer.
+  void border(double u, double v) {
     const SurfaceDerivs d = g_.d1(u, v);
     const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
     const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
@@ -529,7 +511,7 @@ class ReachBorder {
                         std::clamp(v + b * dv, g_.vmin(), g_.vmax())});
         radius = std::max(radius, c.Distance(cutter_.centre(next.back().u, next.back().v)));
       }
-    if (cutter_.unreached_within(u, v, radius)) return out;
+    if (cutter_.unreached_within(u, v, radius)) return;
     for (const auto& [u1, v1] : next) {
       if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
       double s0 = 0.0, s1 = 1.0;
@@ -537,20 +519,15 @@ class ReachBorder {
         const double m = 0.5 * (s0 + s1);
         (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
       }
-      out.push_back({u + s1 * (u1 - u), v + s1 * (v1 - v)});
-    }
-    return out;
-  }
-  // The reach border's points treated as samples (a path there if over h).
-  void border(const std::vector<ParamPt>& points) {
-    for (const ParamPt& b : points) {
-      const Gap qb = gap_at(g_, *kept_, b.u, b.v);
+      const double ub = u + s1 * (u1 - u), vb = v + s1 * (v1 - v);
+      const Gap qb = gap_at(g_, *kept_, ub, vb);
       if (over(qb))
-        cover(b.u, b.v);
+        cover(ub, vb);
       else
         certify(qb);
     }
   }
+
   // Beside the end of a piece the ground's cusp peaks where its distance
   // to the end and to the neighbouring pieces is the same, between the
   // samples. From the samples under h whose nearest point ends a piece
@@ -586,7 +563,7 @@ class ReachBorder {
       else if (cutter_.reached(u, v))
         cover(u, v);
       else
-        border(border_points(u, v));
+        border(u, v);
     }
   }
 
@@ -669,7 +646,8 @@ class ReachBorder {
   const PieceCutter& cutter_;
   double r_, h_, e_, flat_;
   PathIndex* kept_;
-  // The segments of the pieces cover() kept since the block was probed.
+  // The segments of the pieces cover() kept since the block's gaps were
+  // measured.
   std::vector<std::pair<gp_Pnt, gp_Pnt>> fresh_;
   FaceCut* out_;
   int threads_;
