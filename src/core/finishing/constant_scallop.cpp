@@ -5,6 +5,7 @@
 #include "finishing/constant_scallop.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <memory>
@@ -435,20 +436,18 @@ class ReachBorder {
     std::vector<ParamPt> at;
     samples_.for_each([&](double u, double v) { at.push_back({u, v}); });
     std::vector<EndSample> ends;
-    std::vector<std::pair<gp_Pnt, Gap>> block;
+    std::vector<Gap> block;
     constexpr std::size_t kBlock = 1024;
     for (std::size_t b = 0; b < at.size(); b += kBlock) {
       block.resize(std::min(kBlock, at.size() - b));
       for_each_index(block.size(), threads_, [&](std::size_t k) {
-        const auto [u, v] = at[b + k];
-        block[k] = {g_.eval(u, v), gap_at(g_, *kept_, u, v)};
+        block[k] = gap_at(g_, *kept_, at[b + k].u, at[b + k].v);
       });
       fresh_.clear();
       for (std::size_t k = 0; k < block.size(); ++k) {
         const auto [u, v] = at[b + k];
-        const Gap q =
-            nearer(block[k].first, block[k].second.d) ? gap_at(g_, *kept_, u, v) : block[k].second;
-        if (q.end && !over(q) && may_hide_more(q)) ends.push_back({u, v, q.at});
+        const Gap q = nearer(block[k].x, block[k].d) ? gap_at(g_, *kept_, u, v) : block[k];
+        if (q.end && !over(q) && may_hide_more(q)) ends.push_back({u, v, q.at, q.x});
         visit(u, v, q);
       }
     }
@@ -460,15 +459,13 @@ class ReachBorder {
   struct EndSample {
     double u, v;
     gp_Pnt end;
+    gp_Pnt x;  // the sample's ground point
   };
   // A piece kept since the block's gaps were measured (fresh_) passes nearer
   // to p than d.
   bool nearer(const gp_Pnt& p, double d) const {
     return std::any_of(fresh_.begin(), fresh_.end(), [&](const std::pair<gp_Pnt, gp_Pnt>& s) {
-      const gp_Vec ab(s.first, s.second), ap(s.first, p);
-      const double l2 = ab.SquareMagnitude();
-      const double t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
-      return p.SquareDistance(s.first.Translated(ab * t)) < d * d;
+      return to_segment2(p, s.first, s.second) < d * d;
     });
   }
 
@@ -501,15 +498,17 @@ class ReachBorder {
     const SurfaceDerivs d = g_.d1(u, v);
     const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
     const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
-    std::vector<ParamPt> next;
+    std::array<ParamPt, 8> next;
     const gp_Pnt c = cutter_.centre(u, v);
     double radius = 0.0;
+    std::size_t n = 0;
     for (int a = -1; a <= 1; ++a)
       for (int b = -1; b <= 1; ++b) {
         if (a == 0 && b == 0) continue;
-        next.push_back({std::clamp(u + a * du, g_.umin(), g_.umax()),
-                        std::clamp(v + b * dv, g_.vmin(), g_.vmax())});
-        radius = std::max(radius, c.Distance(cutter_.centre(next.back().u, next.back().v)));
+        next[n] = {std::clamp(u + a * du, g_.umin(), g_.umax()),
+                   std::clamp(v + b * dv, g_.vmin(), g_.vmax())};
+        radius = std::max(radius, c.Distance(cutter_.centre(next[n].u, next[n].v)));
+        ++n;
       }
     if (cutter_.unreached_within(u, v, radius)) return;
     for (const auto& [u1, v1] : next) {
@@ -550,9 +549,8 @@ class ReachBorder {
     for (std::size_t k = 0; k < ends.size(); ++k) {
       const EndSample& s = ends[k];
       if (k == 0 || !s.end.IsEqual(ends[k - 1].end, 0.0)) peaks.clear();
-      const gp_Pnt x = g_.eval(s.u, s.v);
       if (std::any_of(peaks.begin(), peaks.end(),
-                      [&](const gp_Pnt& p) { return p.Distance(x) <= cell_radius(); }))
+                      [&](const gp_Pnt& p) { return p.Distance(s.x) <= cell_radius(); }))
         continue;
       double u = s.u, v = s.v;
       climb_from(&u, &v);

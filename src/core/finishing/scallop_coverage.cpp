@@ -102,10 +102,11 @@ void FaceSampling::coverage(const PathIndex& index, double* max_gap, double* sca
 }
 
 Gap gap_at(const PatchGrid& g, const PathIndex& index, double u, double v) {
-  const gp_Pnt x = g.eval(u, v);
   Gap out;
-  out.d = index.distance(x, &out.at, 0.0, &out.end);
-  if (x.Distance(out.at) >= 1e-12) out.kappa = normal_curvature(g, {u, v}, gp_Vec(x, out.at));
+  out.x = g.eval(u, v);
+  out.d = index.distance(out.x, &out.at, 0.0, &out.end);
+  if (out.x.Distance(out.at) >= 1e-12)
+    out.kappa = normal_curvature(g, {u, v}, gp_Vec(out.x, out.at));
   return out;
 }
 

@@ -56,6 +56,7 @@ class FaceSampling {
 // that cuts there (0 on the path).
 struct Gap {
   double d = 0.0, kappa = 0.0;
+  gp_Pnt x;          // the ground point
   gp_Pnt at;         // that nearest point
   bool end = false;  // it ends a polyline (PathIndex::distance())
 };

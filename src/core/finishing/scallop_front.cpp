@@ -343,7 +343,7 @@ double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough, bool* end
           if (it == grid_.end()) continue;
           for (std::size_t sgi : it->second) {
             double t;
-            const double d2 = to_segment2(p, sgi, &t);
+            const double d2 = to_segment2(p, segs_[sgi].first, segs_[sgi].second, &t);
             if (d2 >= best2) continue;
             best2 = d2;
             nearest = &segs_[sgi];
@@ -368,12 +368,12 @@ double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough, bool* end
 
 long PathIndex::idx(double x) const { return static_cast<long>(std::floor(x / cell_)); }
 
-double PathIndex::to_segment2(const gp_Pnt& p, std::size_t i, double* t) const {
-  const gp_Pnt &a = segs_[i].first, &b = segs_[i].second;
+double to_segment2(const gp_Pnt& p, const gp_Pnt& a, const gp_Pnt& b, double* t) {
   const gp_Vec ab(a, b), ap(a, p);
   const double l2 = ab.SquareMagnitude();
-  *t = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return p.SquareDistance(a.Translated(ab * *t));
+  const double s = l2 > 0 ? std::clamp(ap.Dot(ab) / l2, 0.0, 1.0) : 0.0;
+  if (t) *t = s;
+  return p.SquareDistance(a.Translated(ab * s));
 }
 
 StripWidth ball_strip_width(double r, double h, double e) {

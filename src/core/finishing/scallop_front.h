@@ -82,6 +82,10 @@ struct FrontSettings {
 // it lies where those paths' strips already cut (a concave turn of the
 // current path, or a front meeting another), so the front never sweeps back
 // over what is covered.
+// The squared distance from p to the segment ab; t (if given): where on it,
+// in [0, 1].
+double to_segment2(const gp_Pnt& p, const gp_Pnt& a, const gp_Pnt& b, double* t = nullptr);
+
 // The contact polylines of the paths so far, for nearest-distance queries
 // (a uniform hash grid of segments, cells `cell` wide).
 class PathIndex {
@@ -100,8 +104,6 @@ class PathIndex {
 
  private:
   long idx(double x) const;
-  // The squared distance to segment i; t: where on it, in [0, 1].
-  double to_segment2(const gp_Pnt& p, std::size_t i, double* t) const;
   double cell_;
   std::vector<std::pair<gp_Pnt, gp_Pnt>> segs_;
   std::vector<std::uint8_t> ends_;  // per segment: 1 first of its piece, 2 last
