@@ -29,21 +29,35 @@
 namespace isocam {
 namespace {
 
-TEST(ClearanceModel, AgreesWithTheTrimmedModelNearBall) {
-  const TopoDS_Shape shape = test::load("Ball.brep");
-  const std::vector<TopoDS_Face> faces = faces_of(shape);
+// Ball.brep's faces, their grids and domains, and the clearance model of
+// them all (eps 1e-4 mm).
+struct BallModel {
+  std::vector<TopoDS_Face> faces = faces_of(test::load("Ball.brep"));
   std::vector<PatchGrid> grids;
-  grids.reserve(faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    grids.push_back(PatchGrid::from_face(faces[i], static_cast<int>(i)));
   std::vector<TrimDomain> trims;
-  trims.reserve(faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    trims.emplace_back(faces[i], grids[i], static_cast<int>(i));
-  const double eps = 1e-4;
-  ClearanceModel model(eps, 3.0);
-  for (std::size_t i = 0; i < faces.size(); ++i) model.add(grids[i], &trims[i]);
-  model.build();
+  ClearanceModel model{1e-4, 3.0};
+  BallModel() {
+    grids.reserve(faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      grids.push_back(PatchGrid::from_face(faces[i], static_cast<int>(i)));
+    trims.reserve(faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      trims.emplace_back(faces[i], grids[i], static_cast<int>(i));
+    for (std::size_t i = 0; i < faces.size(); ++i) model.add(grids[i], &trims[i]);
+    model.build();
+  }
+  // A face drawn at random.
+  std::size_t random_face(std::mt19937& rng) const {
+    const double x = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+    return static_cast<std::size_t>(x * static_cast<double>(faces.size())) % faces.size();
+  }
+};
+
+TEST(ClearanceModel, AgreesWithTheTrimmedModelNearBall) {
+  const BallModel ball;
+  const std::vector<TopoDS_Face>& faces = ball.faces;
+  const std::vector<PatchGrid>& grids = ball.grids;
+  const ClearanceModel& model = ball.model;
   const test::ModelCloud cloud(faces, 0.1, true);
 
   // Points at 0.2 to 2 mm off random points of random faces, on either
@@ -54,8 +68,7 @@ TEST(ClearanceModel, AgreesWithTheTrimmedModelNearBall) {
   const double margin = 0.01;
   int checked = 0, wrong_clear = 0, wrong_blocked = 0;
   for (int k = 0; k < 600; ++k) {
-    const std::size_t f =
-        static_cast<std::size_t>(unit(rng) * static_cast<double>(faces.size())) % faces.size();
+    const std::size_t f = ball.random_face(rng);
     double u0, u1, v0, v1;
     BRepTools::UVBounds(faces[f], u0, u1, v0, v1);
     const double u = u0 + (u1 - u0) * unit(rng), v = v0 + (v1 - v0) * unit(rng);
@@ -126,6 +139,42 @@ TEST(ClearanceModel, AgreesWithTheTrimmedModelNearBall) {
   EXPECT_EQ(wrong_blocked, 0) << "of " << checked;
   // Not clear where a point of the trimmed model is nearer: no gouge.
   EXPECT_EQ(wrong_clear, 0) << "of " << checked;
+}
+
+// A witness of one reach query settles others without a query
+// (witness_blocks_above(), which ConstantScallop's reach border uses on a
+// sample's neighbours): wherever it says that the witness blocks a column,
+// clear_above() of that column answers "not clear" too. Columns over
+// points 1 mm off Ball's faces, queried at 1 mm, then columns up to 0.6 mm
+// from each blocked one tested with its witness.
+TEST(ClearanceModel, AWitnessBlocksOnlyColumnsTheQuerySaysAreBlocked) {
+  const BallModel ball;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double d = 1.0;
+  int blocked = 0, settled = 0, wrong = 0;
+  for (int k = 0; k < 300; ++k) {
+    const PatchGrid& g = ball.grids[ball.random_face(rng)];
+    const double u = g.umin() + (g.umax() - g.umin()) * unit(rng);
+    const double v = g.vmin() + (g.vmax() - g.vmin()) * unit(rng);
+    const gp_Pnt c = g.eval(u, v).Translated(g.normal(u, v) * d);
+    ClearanceModel::Witness w;
+    if (ball.model.clear_above(c, d, &w) || !w.grid) continue;
+    ++blocked;
+    for (int j = 0; j < 8; ++j) {
+      const gp_Pnt c1(c.X() + 0.6 * (2 * unit(rng) - 1), c.Y() + 0.6 * (2 * unit(rng) - 1),
+                      c.Z() + 0.6 * (2 * unit(rng) - 1));
+      if (!ball.model.witness_blocks_above(w, c1, d)) continue;
+      ++settled;
+      wrong += ball.model.clear_above(c1, d);
+    }
+  }
+  EXPECT_GT(blocked, 50);
+  EXPECT_GT(settled, 100);
+  EXPECT_LT(settled, 8 * blocked);  // not every column: the test can tell
+  EXPECT_EQ(wrong, 0) << "of " << settled;
+  // No point, no answer: a witness of a query out of its budget.
+  EXPECT_FALSE(ball.model.witness_blocks_above(ClearanceModel::Witness{}, gp_Pnt(0, 0, 0), d));
 }
 
 }  // namespace

@@ -283,7 +283,19 @@ class PieceCutter {
 
   // The ball touching the face at (u, v) is reached from above: its column
   // keeps the clearance the cut keeps (as clear_pieces() keeps a vertex).
-  bool reached(double u, double v) const { return model_.clear_above(centre({u, v}), clearance_); }
+  // `w`, if given, receives the witness where it is not.
+  bool reached(double u, double v, ClearanceModel::Witness* w = nullptr) const {
+    return reached_centre(centre({u, v}), w);
+  }
+  bool reached_centre(const gp_Pnt& c, ClearanceModel::Witness* w = nullptr) const {
+    return model_.clear_above(c, clearance_, w);
+  }
+  // The point of a witness found before shows the ball centre c not reached
+  // (ClearanceModel::witness_blocks_above(): what reached_centre() would
+  // answer, without a query).
+  bool blocked_by(const ClearanceModel::Witness& w, const gp_Pnt& c) const {
+    return model_.witness_blocks_above(w, c, clearance_);
+  }
   // No ball centre within `radius` of the one touching (u, v) is reached
   // from above: a witness shows the model closer to its column than the
   // clearance less radius and the model's tolerance, so closer than the
@@ -484,8 +496,9 @@ class ReachBorder {
   // the ball reaches it, else the reach border towards its neighbours.
   void visit(double u, double v, const Gap& q) {
     if (!over(q)) return certify(q);
-    if (cutter_.reached(u, v)) return cover(u, v);
-    border(u, v);
+    ClearanceModel::Witness w;
+    if (cutter_.reached(u, v, &w)) return cover(u, v);
+    border(u, v, w);
   }
   // From (u, v), which the ball does not reach, towards each of its 8
   // neighbours a sampling step away that it reaches: the reach border
@@ -493,12 +506,16 @@ class ReachBorder {
   // sample (a path there if over h). Where the model blocks the column at
   // (u, v) by more than the farthest neighbour's centre is away, none is
   // reached (PieceCutter::unreached_within()): one query instead of eight,
-  // the same answer.
-  void border(double u, double v) {
+  // the same answer. `w`: the witness that (u, v) is not reached; a
+  // neighbour or a point of a bisection whose column it blocks needs no
+  // query (PieceCutter::blocked_by()), and each query that finds a point of
+  // a bisection not reached gives it the witness for the next.
+  void border(double u, double v, const ClearanceModel::Witness& w) {
     const SurfaceDerivs d = g_.d1(u, v);
     const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
     const double dv = kStep * flat_ / std::max(d.sv.Magnitude(), 1e-12);
     std::array<ParamPt, 8> next;
+    std::array<gp_Pnt, 8> centres;
     const gp_Pnt c = cutter_.centre(u, v);
     double radius = 0.0;
     std::size_t n = 0;
@@ -507,16 +524,22 @@ class ReachBorder {
         if (a == 0 && b == 0) continue;
         next[n] = {std::clamp(u + a * du, g_.umin(), g_.umax()),
                    std::clamp(v + b * dv, g_.vmin(), g_.vmax())};
-        radius = std::max(radius, c.Distance(cutter_.centre(next[n].u, next[n].v)));
+        centres[n] = cutter_.centre(next[n].u, next[n].v);
+        radius = std::max(radius, c.Distance(centres[n]));
         ++n;
       }
     if (cutter_.unreached_within(u, v, radius)) return;
-    for (const auto& [u1, v1] : next) {
-      if (!cutter_.inside(u1, v1) || !cutter_.reached(u1, v1)) continue;
+    for (std::size_t n1 = 0; n1 < next.size(); ++n1) {
+      const auto [u1, v1] = next[n1];
+      if (!cutter_.inside(u1, v1) || cutter_.blocked_by(w, centres[n1]) ||
+          !cutter_.reached_centre(centres[n1]))
+        continue;
       double s0 = 0.0, s1 = 1.0;
+      ClearanceModel::Witness wb = w;
       for (int k = 0; k < 6; ++k) {
         const double m = 0.5 * (s0 + s1);
-        (cutter_.reached(u + m * (u1 - u), v + m * (v1 - v)) ? s1 : s0) = m;
+        const gp_Pnt cm = cutter_.centre(u + m * (u1 - u), v + m * (v1 - v));
+        (!cutter_.blocked_by(wb, cm) && cutter_.reached_centre(cm, &wb) ? s1 : s0) = m;
       }
       const double ub = u + s1 * (u1 - u), vb = v + s1 * (v1 - v);
       const Gap qb = gap_at(g_, *kept_, ub, vb);
@@ -556,12 +579,13 @@ class ReachBorder {
       climb_from(&u, &v);
       peaks.push_back(g_.eval(u, v));
       const Gap q = gap_at(g_, *kept_, u, v);
+      ClearanceModel::Witness w;
       if (!over(q))
         certify(q);
-      else if (cutter_.reached(u, v))
+      else if (cutter_.reached(u, v, &w))
         cover(u, v);
       else
-        border(u, v);
+        border(u, v, w);
     }
   }
 

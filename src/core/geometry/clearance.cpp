@@ -338,6 +338,13 @@ void ClearanceModel::clear_polyline(const gp_Pnt* pts, std::size_t n, double d, 
 }
 
 namespace {
+double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp_XYZ& ab,
+                                      double ab2) {
+  const gp_XYZ ap = p - a;
+  const double t = ab2 > 0 ? std::clamp(ap.Dot(ab) / ab2, 0.0, 1.0) : 0.0;
+  return (ap - ab * t).SquareModulus();
+}
+
 // The top of the column above c that clear_above() queries.
 gp_Pnt column_top(const gp_Pnt& c, double top, double d) {
   return gp_Pnt(c.X(), c.Y(), std::max(c.Z(), top + d));
@@ -346,6 +353,14 @@ gp_Pnt column_top(const gp_Pnt& c, double top, double d) {
 
 bool ClearanceModel::clear_above(const gp_Pnt& c, double d, Witness* witness) const {
   return clear(c, column_top(c, top(), d), d, witness);
+}
+
+bool ClearanceModel::witness_blocks_above(const Witness& w, const gp_Pnt& c, double d) const {
+  if (w.grid == nullptr || d <= 2 * eps_) return false;
+  const gp_XYZ a = c.XYZ(), ab = column_top(c, top(), d).XYZ() - a;
+  const double keep = d - 2 * eps_;
+  return squared_point_segment_distance(w.grid->eval(w.u, w.v).XYZ(), a, ab, ab.SquareModulus()) <
+         keep * keep;
 }
 
 void ClearanceModel::clear_above(const gp_Pnt* pts, std::size_t n, double d, char* out) const {
@@ -473,13 +488,6 @@ void split_net(const H4* n, int pu, int pv, bool along_u, H4* l, H4* r) {
       r[base + (m - s) * stride] = w[m - s];
     }
   }
-}
-
-double squared_point_segment_distance(const gp_XYZ& p, const gp_XYZ& a, const gp_XYZ& ab,
-                                      double ab2) {
-  const gp_XYZ ap = p - a;
-  const double t = ab2 > 0 ? std::clamp(ap.Dot(ab) / ab2, 0.0, 1.0) : 0.0;
-  return (ap - ab * t).SquareModulus();
 }
 
 }  // namespace

@@ -77,6 +77,13 @@ class ClearanceModel {
   // keeps d - eps from every point of the model, as clear() does for a
   // segment; "not clear" shows a point closer than d.
   bool clear_above(const gp_Pnt& c, double d, Witness* witness = nullptr) const;
+  // The witness's point (of an earlier query on this model) shows the
+  // column above c blocked: it is closer to the column than d less twice
+  // eps (a margin for the rounding of its evaluation), so clear_above(c, d)
+  // would answer false: no piece that holds the point is ever passed, as
+  // none is beyond d - eps or under eps across with no corner within d.
+  // False for a witness without a point (a query out of its budget).
+  bool witness_blocks_above(const Witness& w, const gp_Pnt& c, double d) const;
   // clear_above() of each of n centres into out[k], batched as
   // clear_polyline() is (neighbouring columns share the subdivision).
   void clear_above(const gp_Pnt* pts, std::size_t n, double d, char* out) const;
