@@ -507,9 +507,10 @@ class ReachBorder {
   // (u, v) by more than the farthest neighbour's centre is away, none is
   // reached (PieceCutter::unreached_within()): one query instead of eight,
   // the same answer. `w`: the witness that (u, v) is not reached; a
-  // neighbour or a point of a bisection whose column it blocks needs no
-  // query (PieceCutter::blocked_by()), and each query that finds a point of
-  // a bisection not reached gives it the witness for the next.
+  // neighbour whose column it blocks, or the witness of a neighbour found
+  // not reached before, needs no query (PieceCutter::blocked_by()), nor a
+  // point of a bisection whose column the witness of its last point not
+  // reached blocks.
   void border(double u, double v, const ClearanceModel::Witness& w) {
     const SurfaceDerivs d = g_.d1(u, v);
     const double du = kStep * flat_ / std::max(d.su.Magnitude(), 1e-12);
@@ -529,11 +530,20 @@ class ReachBorder {
         ++n;
       }
     if (cutter_.unreached_within(u, v, radius)) return;
+    std::array<ClearanceModel::Witness, 9> seen{w};  // the witnesses found so far
+    std::size_t n_seen = 1;
     for (std::size_t n1 = 0; n1 < next.size(); ++n1) {
       const auto [u1, v1] = next[n1];
-      if (!cutter_.inside(u1, v1) || cutter_.blocked_by(w, centres[n1]) ||
-          !cutter_.reached_centre(centres[n1]))
+      if (!cutter_.inside(u1, v1) ||
+          std::any_of(seen.begin(), seen.begin() + n_seen, [&](const ClearanceModel::Witness& x) {
+            return cutter_.blocked_by(x, centres[n1]);
+          }))
         continue;
+      ClearanceModel::Witness wn;
+      if (!cutter_.reached_centre(centres[n1], &wn)) {
+        if (wn.grid) seen[n_seen++] = wn;
+        continue;
+      }
       double s0 = 0.0, s1 = 1.0;
       ClearanceModel::Witness wb = w;
       for (int k = 0; k < 6; ++k) {
