@@ -14,10 +14,12 @@
 #include <BRep_Tool.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <Geom_Surface.hxx>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <gp_Pln.hxx>
 #include <iostream>
+#include <random>
 
 #include "finishing/constant_scallop.h"
 #include "finishing/scallop_front.h"
@@ -349,18 +351,21 @@ TEST(ScallopFront, CurvatureBesideAPoleIsTheSurfaces) {
     }
 }
 
+// A piece through the points (positions only).
+FrontPiece piece_through(const std::vector<gp_Pnt>& pts) {
+  FrontPiece pc;
+  for (const gp_Pnt& p : pts) {
+    FrontPoint x;
+    x.p = p;
+    pc.push_back(x);
+  }
+  return pc;
+}
+
 // The certificate climbs from the samples whose nearest point on the pieces
 // kept ends one (ReachBorder::climb()): the index says which those are.
 TEST(PathIndex, SaysWhenTheNearestPointEndsAPiece) {
-  auto piece = [](std::initializer_list<gp_Pnt> pts) {
-    FrontPiece pc;
-    for (const gp_Pnt& p : pts) {
-      FrontPoint x;
-      x.p = p;
-      pc.push_back(x);
-    }
-    return pc;
-  };
+  const auto piece = piece_through;
   PathIndex index(1.0);
   index.add(piece({gp_Pnt(0, 0, 0), gp_Pnt(1, 0, 0), gp_Pnt(2, 0, 0)}));
   index.add(piece({gp_Pnt(0, 2, 0), gp_Pnt(1, 2, 0)}));
@@ -378,6 +383,41 @@ TEST(PathIndex, SaysWhenTheNearestPointEndsAPiece) {
     EXPECT_NEAR(index.distance(c.q, nullptr, 0.0, &end), c.d, 1e-12);
     EXPECT_EQ(end, c.end) << c.q.X() << " " << c.q.Y() << " " << c.q.Z();
   }
+}
+
+// The gap filling measures a sample's gap again only where a piece added
+// since comes within it (PathIndex::within(), constant_scallop.cpp's
+// Tracer::fill_gaps()): it must say so wherever some segment does, to the
+// last rounding, and not elsewhere. Against a scan of every segment, the
+// distance along the segment's line clamped to its ends (no code shared).
+TEST(PathIndex, WithinAgreesWithAScanOfEverySegment) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> at(-3.0, 3.0), step(-0.4, 0.4), unit(0.0, 1.0);
+  PathIndex index(0.7);
+  std::vector<std::pair<gp_Pnt, gp_Pnt>> segs;
+  for (int n = 0; n < 40; ++n) {
+    std::vector<gp_Pnt> pts{gp_Pnt(at(rng), at(rng), at(rng))};
+    for (int k = 0; k < 6; ++k)
+      pts.push_back(pts.back().Translated(gp_Vec(step(rng), step(rng), step(rng))));
+    index.add(piece_through(pts));
+    for (std::size_t k = 1; k < pts.size(); ++k) segs.emplace_back(pts[k - 1], pts[k]);
+  }
+  int near = 0, far = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const gp_Pnt p(at(rng), at(rng), at(rng));
+    const double d = 1.2 * index.cell() * unit(rng);
+    double best = 1e300;
+    for (const auto& [a, b] : segs) {
+      const gp_Vec ab(a, b);
+      const double t = std::clamp(gp_Vec(a, p).Dot(ab) / ab.SquareMagnitude(), 0.0, 1.0);
+      best = std::min(best, p.Distance(a.Translated(ab * t)));
+    }
+    if (std::abs(best - d) < 1e-9) continue;  // a tie: either answer
+    EXPECT_EQ(index.within(p, d), best <= d) << "distance " << best << " d " << d;
+    (best <= d ? near : far) += 1;
+  }
+  EXPECT_GT(near, 300);  // both answers are tested
+  EXPECT_GT(far, 300);
 }
 
 TEST(ConstantScallop, OneAndManyThreadsGiveTheSamePathOnOneFace) {

@@ -37,6 +37,8 @@ struct FacePaths {
   // feed, as the links between neighbouring passes are).
   double cost(double link) const { return length + pieces * link; }
   double max_spacing = 0.0, scallop = 0.0, max_width = 0.0;
+  // The samples' coverage after the gaps were filled (raise_coverage()).
+  double gap = 0.0, gap_scallop = 0.0;
   int min_hits = 0, seeds = 0;
   // The samples the certificate is measured on (about half the flat
   // stepover apart); the face's grid and trimmed domain outlive it.
@@ -119,11 +121,15 @@ struct Tracer {
   FrontSettings s;
   FacePaths out;
   std::size_t max_paths = 0, samples = 0;
+  // While the gaps are filled: the parts inside the wires of the pieces
+  // added since the round before's scan (added_before) and since this
+  // round's began (added).
+  std::unique_ptr<PathIndex> added = nullptr, added_before = nullptr;
 
   // A piece into both indexes: whole, and its parts inside the wires.
   void add(const FrontPiece& pc) {
     out.index->add(pc);
-    clip.add_inside(pc, out.inside.get());
+    clip.add_inside(pc, out.inside.get(), added.get());
   }
 
   // Paths from `front` until no point moves (or the cap). With `pairs`,
@@ -193,21 +199,50 @@ struct Tracer {
   // "Start new paths there": where the front left ground uncovered (it split
   // at a fold, turned back, or a wedge stayed between its parts), seeds on
   // the samples of the face (inside its wires) whose distance to the paths
-  // leaves a cusp over h, a few rounds.
+  // leaves a cusp over h, a few rounds. Then the samples' coverage
+  // (Definition 1) into out.gap and out.gap_scallop.
+  // A sample's gap is kept from one round to the next and measured again
+  // only where it is a cell of the index or more, or where a piece added
+  // since (added_before, added) comes as near (as close counts: the nearest
+  // point may change): the gaps are those to all the paths at the time, as
+  // if each were measured anew.
   void fill_gaps() {
-    for (int round = 0; round < 8; ++round) {
+    std::vector<ParamPt> at;
+    out.sampling->for_each([&](double u, double v) { at.push_back({u, v}); });
+    std::vector<Gap> gaps(at.size());
+    auto stale = [&](const Gap& q) {
+      return q.d >= out.inside->cell() || (added_before && added_before->within(q.x, q.d)) ||
+             added->within(q.x, q.d);
+    };
+    auto update = [&](std::size_t k, bool first) {
+      if (first || stale(gaps[k])) gaps[k] = gap_at(g, *out.inside, at[k].u, at[k].v);
+    };
+    bool fresh = false;  // every gap is the one to all the paths
+    for (int round = 0; round < 8 && !fresh; ++round) {
+      added = std::make_unique<PathIndex>(out.inside->cell());
       std::vector<FrontPiece> front;
-      out.sampling->for_each([&](double u, double v) {
-        if (!over(gap_at(g, *out.inside, u, v))) return;
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        update(k, round == 0);
+        if (!over(gaps[k])) continue;
+        const auto [u, v] = at[k];
         std::vector<FrontPiece> pair = seed_path(g, iso_v_piece(g, u, v, flat), s.sample_max);
         if (!pair.empty()) add(pair.front());  // the other is the same line
         for (FrontPiece& pc : pair) front.push_back(std::move(pc));
         ++out.seeds;
-      });
-      if (front.empty()) return;
+      }
+      fresh = front.empty();
+      if (fresh) break;
       progress.check();
       propagate(std::move(front), true);
+      added_before = std::move(added);
     }
+    if (!fresh) {  // seeds were left for a ninth round: measured as they are
+      added = std::make_unique<PathIndex>(out.inside->cell());
+      for (std::size_t k = 0; k < at.size(); ++k) update(k, false);
+    }
+    added.reset();
+    added_before.reset();
+    for (const Gap& q : gaps) raise_coverage(q, p.ball_radius, e, &out.gap, &out.gap_scallop);
   }
 };
 
@@ -355,7 +390,8 @@ std::vector<FaceOut> plan_faces(const std::vector<ScallopFace>& faces,
     o.failed = face_failure(face.index, [&] {
       o.grid = std::make_shared<const PatchGrid>(transposed ? face.grid->transposed() : *face.grid);
       o.paths = trace_paths(*o.grid, *face.trim, transposed, width, params, e, tracing.task(k));
-      o.paths.sampling->coverage(*o.paths.inside, &o.gap, &o.gap_scallop);
+      o.gap = o.paths.gap;
+      o.gap_scallop = o.paths.gap_scallop;
     });
   });
   return tried;
@@ -666,11 +702,7 @@ class ReachBorder {
   }
   // The cusp a sample's gap `q` to the pieces kept leaves, into the
   // certificate.
-  void certify(const Gap& q) {
-    if (q.kappa * r_ <= -1.0) return;
-    o_->gap = std::max(o_->gap, q.d);
-    o_->gap_scallop = raise_scallop(o_->gap_scallop, r_, 2 * q.d, q.kappa, e_);
-  }
+  void certify(const Gap& q) { raise_coverage(q, r_, e_, &o_->gap, &o_->gap_scallop); }
 
   FaceOut* o_;
   const FaceSampling& samples_;

@@ -85,20 +85,15 @@ FaceSampling::FaceSampling(const PatchGrid& g, const TrimDomain& trim, bool tran
       trim_(trim),
       transposed_(transposed),
       step_(step),
-      r_(r),
-      e_(e),
       refine_(convex_refinement(g, r, h, e)),
       boundary_(boundary_samples(g, trim, transposed, step)) {}
 
-void FaceSampling::coverage(const PathIndex& index, double* max_gap, double* scallop) const {
-  for_each([&](double u, double v) {
-    const Gap q = gap_at(g_, index, u, v);
-    // Concave ground tighter than the ball: it cannot touch there (its
-    // offset folds; the clearance cut reports that path as unreachable).
-    if (q.kappa * r_ <= -1.0) return;
-    *max_gap = std::max(*max_gap, q.d);
-    *scallop = raise_scallop(*scallop, r_, 2 * q.d, q.kappa, e_);
-  });
+void raise_coverage(const Gap& q, double r, double e, double* max_gap, double* scallop) {
+  // Concave ground tighter than the ball: it cannot touch there (its offset
+  // folds; the clearance cut reports that path as unreachable).
+  if (q.kappa * r <= -1.0) return;
+  *max_gap = std::max(*max_gap, q.d);
+  *scallop = raise_scallop(*scallop, r, 2 * q.d, q.kappa, e);
 }
 
 Gap gap_at(const PatchGrid& g, const PathIndex& index, double u, double v) {
@@ -166,9 +161,13 @@ FrontPiece WireClip::contact(const FrontPiece& pc, double a, double b) const {
   return out;
 }
 
-void WireClip::add_inside(const FrontPiece& pc, PathIndex* index) const {
+void WireClip::add_inside(const FrontPiece& pc, PathIndex* index, PathIndex* also) const {
   if (pc.size() < 2) return;
-  for (const auto& [a, b] : inside_runs(pc)) index->add(contact(pc, a, b));
+  for (const auto& [a, b] : inside_runs(pc)) {
+    const FrontPiece c = contact(pc, a, b);
+    index->add(c);
+    if (also) also->add(c);
+  }
 }
 
 bool WireClip::inside(const ParamPt& uv) const {

@@ -36,17 +36,11 @@ class FaceSampling {
   template <class F>
   void for_each(F f) const;
 
-  // Definition 1 against `index`: the largest distance of a sample from
-  // the polylines into max_gap, the largest scallop into scallop (both
-  // raised, never lowered). Samples on concave ground tighter than the
-  // ball, where it cannot touch, count in neither.
-  void coverage(const PathIndex& index, double* max_gap, double* scallop) const;
-
  private:
   const PatchGrid& g_;
   const TrimDomain& trim_;
   bool transposed_;
-  double step_, r_, e_;
+  double step_;
   std::vector<double> refine_;  // per patch j * patches_u + i: the factor on step, (0, 1]
   std::vector<ParamPt> boundary_;
 };
@@ -61,6 +55,12 @@ struct Gap {
   bool end = false;  // it ends a polyline (PathIndex::distance())
 };
 Gap gap_at(const PatchGrid& g, const PathIndex& index, double u, double v);
+
+// Definition 1 at a sample of gap q, for a ball of radius r with the
+// centres up to e off: its distance raises max_gap, its cusp scallop (never
+// lowered). Samples on concave ground tighter than the ball, where it
+// cannot touch, count in neither.
+void raise_coverage(const Gap& q, double r, double e, double* max_gap, double* scallop);
 
 // The larger of `so_far` and the scallop that contact points a chord c
 // apart leave on ground of curvature kappa with the centres up to e off
@@ -89,8 +89,9 @@ class WireClip {
   std::vector<std::pair<double, double>> inside_runs(const FrontPiece& pc) const;
   // The contact polyline of the piece over [a, b] (its samples between).
   FrontPiece contact(const FrontPiece& pc, double a, double b) const;
-  // The contact polylines of the piece's parts inside the face into `index`.
-  void add_inside(const FrontPiece& pc, PathIndex* index) const;
+  // The contact polylines of the piece's parts inside the face into `index`
+  // (and into `also`, if given).
+  void add_inside(const FrontPiece& pc, PathIndex* index, PathIndex* also = nullptr) const;
 
  private:
   bool inside(const ParamPt& uv) const;

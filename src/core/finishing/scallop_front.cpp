@@ -366,6 +366,25 @@ double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough, bool* end
   return nearest ? std::sqrt(best2) : far;
 }
 
+bool PathIndex::within(const gp_Pnt& p, double d) const {
+  const double c[3] = {p.X(), p.Y(), p.Z()};
+  long lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const double margin = 1e-9 * (std::abs(c[k]) + cell_);  // as distance()'s
+    lo[k] = idx(c[k] - d - margin);
+    hi[k] = idx(c[k] + d + margin);
+  }
+  for (long a = lo[0]; a <= hi[0]; ++a)
+    for (long b = lo[1]; b <= hi[1]; ++b)
+      for (long q = lo[2]; q <= hi[2]; ++q) {
+        const auto it = grid_.find(cell_key(a, b, q));
+        if (it == grid_.end()) continue;
+        for (std::size_t s : it->second)
+          if (to_segment2(p, segs_[s].first, segs_[s].second) <= d * d) return true;
+      }
+  return false;
+}
+
 long PathIndex::idx(double x) const { return static_cast<long>(std::floor(x / cell_)); }
 
 double to_segment2(const gp_Pnt& p, const gp_Pnt& a, const gp_Pnt& b, double* t) {

@@ -101,6 +101,10 @@ class PathIndex {
   // end, not a strip between two passes).
   double distance(const gp_Pnt& p, gp_Pnt* at = nullptr, double enough = 0.0,
                   bool* end = nullptr) const;
+  // Some segment is within d of p (distance <= d): the cells the cube of
+  // half-side d about p meets, and no others (a few for d under a cell).
+  bool within(const gp_Pnt& p, double d) const;
+  double cell() const { return cell_; }
 
  private:
   long idx(double x) const;
