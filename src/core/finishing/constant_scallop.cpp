@@ -472,12 +472,13 @@ class ReachBorder {
         e_(e),
         flat_(stepover_for_scallop(r_, h_)),
         kept_(kept),
+        fresh_(kept->cell()),
         out_(out),
         threads_(params.threads) {}
 
   // The samples in blocks: each block's gaps to the pieces kept measured on
   // the threads (read only), then the samples visited in order, a gap
-  // measured again where a piece kept since passes nearer (nearer()): as one
+  // measured again where a piece kept since comes as near (nearer()): as one
   // pass in order would, the result does not depend on the threads.
   void fill() {
     o_->gap = o_->gap_scallop = 0.0;
@@ -491,7 +492,7 @@ class ReachBorder {
       for_each_index(block.size(), threads_, [&](std::size_t k) {
         block[k] = gap_at(g_, *kept_, at[b + k].u, at[b + k].v);
       });
-      fresh_.clear();
+      fresh_ = PathIndex(kept_->cell());
       for (std::size_t k = 0; k < block.size(); ++k) {
         const auto [u, v] = at[b + k];
         const Gap q = nearer(block[k].x, block[k].d) ? gap_at(g_, *kept_, u, v) : block[k];
@@ -509,13 +510,9 @@ class ReachBorder {
     gp_Pnt end;
     gp_Pnt x;  // the sample's ground point
   };
-  // A piece kept since the block's gaps were measured (fresh_) passes nearer
-  // to p than d.
-  bool nearer(const gp_Pnt& p, double d) const {
-    return std::any_of(fresh_.begin(), fresh_.end(), [&](const std::pair<gp_Pnt, gp_Pnt>& s) {
-      return to_segment2(p, s.first, s.second) < d * d;
-    });
-  }
+  // A piece kept since the block's gaps were measured (fresh_) comes as near
+  // to p as d (as close counts: the nearest point may change).
+  bool nearer(const gp_Pnt& p, double d) const { return fresh_.within(p, d); }
 
   bool over(const Gap& q) const { return left_over(q, r_, h_, e_); }
   // Half the diagonal of a sampling step: every point of the face is about
@@ -697,7 +694,7 @@ class ReachBorder {
     cutter_.cut(pc, &out_->pieces, &out_->curves, &not_needed, &not_needed_from_above, &contact);
     for (const FrontPiece& c : contact) {
       kept_->add(c);
-      for (std::size_t k = 1; k < c.size(); ++k) fresh_.emplace_back(c[k - 1].p, c[k].p);
+      fresh_.add(c);
     }
   }
   // The cusp a sample's gap `q` to the pieces kept leaves, into the
@@ -710,9 +707,8 @@ class ReachBorder {
   const PieceCutter& cutter_;
   double r_, h_, e_, flat_;
   PathIndex* kept_;
-  // The segments of the pieces cover() kept since the block's gaps were
-  // measured.
-  std::vector<std::pair<gp_Pnt, gp_Pnt>> fresh_;
+  // The pieces cover() kept since the block's gaps were measured.
+  PathIndex fresh_;
   FaceCut* out_;
   int threads_;
 };

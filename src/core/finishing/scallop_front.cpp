@@ -367,6 +367,7 @@ double PathIndex::distance(const gp_Pnt& p, gp_Pnt* at, double enough, bool* end
 }
 
 bool PathIndex::within(const gp_Pnt& p, double d) const {
+  if (segs_.empty()) return false;
   const double c[3] = {p.X(), p.Y(), p.Z()};
   long lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
