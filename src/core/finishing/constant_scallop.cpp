@@ -207,8 +207,7 @@ struct Tracer {
   // point may change): the gaps are those to all the paths at the time, as
   // if each were measured anew.
   void fill_gaps() {
-    std::vector<ParamPt> at;
-    out.sampling->for_each([&](double u, double v) { at.push_back({u, v}); });
+    const std::vector<ParamPt> at = out.sampling->points();
     std::vector<Gap> gaps(at.size());
     auto stale = [&](const Gap& q) {
       return q.d >= out.inside->cell() || (added_before && added_before->within(q.x, q.d)) ||
@@ -218,7 +217,7 @@ struct Tracer {
       if (first || stale(gaps[k])) gaps[k] = gap_at(g, *out.inside, at[k].u, at[k].v);
     };
     bool fresh = false;  // every gap is the one to all the paths
-    for (int round = 0; round < 8 && !fresh; ++round) {
+    for (int round = 0; round < 8; ++round) {
       added = std::make_unique<PathIndex>(out.inside->cell());
       std::vector<FrontPiece> front;
       for (std::size_t k = 0; k < at.size(); ++k) {
@@ -482,8 +481,7 @@ class ReachBorder {
   // pass in order would, the result does not depend on the threads.
   void fill() {
     o_->gap = o_->gap_scallop = 0.0;
-    std::vector<ParamPt> at;
-    samples_.for_each([&](double u, double v) { at.push_back({u, v}); });
+    const std::vector<ParamPt> at = samples_.points();
     std::vector<EndSample> ends;
     std::vector<Gap> block;
     constexpr std::size_t kBlock = 1024;

@@ -35,6 +35,12 @@ class FaceSampling {
   // f(u, v) at every sample inside the face, then at the boundary samples.
   template <class F>
   void for_each(F f) const;
+  // The samples, in for_each()'s order.
+  std::vector<ParamPt> points() const {
+    std::vector<ParamPt> out;
+    for_each([&](double u, double v) { out.push_back({u, v}); });
+    return out;
+  }
 
  private:
   const PatchGrid& g_;
